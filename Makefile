@@ -1,0 +1,46 @@
+# The two commands (see README): `make demo` and `make test`. Both install what is missing first.
+BUILD ?= build
+JOBS ?= 2
+CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3
+DEMO_CASE ?= examples/cases/maxilla-implants.json
+
+.PHONY: all deps build test test-main test-sanitize test-fuzz demo bench clean
+
+all: build
+
+deps:
+	@scripts/setup.sh
+
+build: deps
+	cmake -S . -B $(BUILD) $(CMAKE_FLAGS)
+	cmake --build $(BUILD) -j$(JOBS)
+
+# Everything CI runs: the Release tests (GoogleTest, pytest), the kernel tests under ASan+UBSan, and
+# each file-reader fuzzer for a bounded time.
+test: test-main test-sanitize test-fuzz
+
+test-main: build
+	ctest --test-dir $(BUILD) -j$(JOBS) --output-on-failure
+
+test-sanitize: deps
+	cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DST_SANITIZE=ON -DST_BUILD_PYTHON=OFF
+	cmake --build build-asan -j$(JOBS) --target st_kernel_tests
+	ctest --test-dir build-asan -j$(JOBS) --output-on-failure
+
+test-fuzz: deps
+	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DST_FUZZ=ON \
+	  -DST_BUILD_TESTS=OFF -DST_BUILD_PYTHON=OFF \
+	  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer"
+	cmake --build build-fuzz -j$(JOBS) --target fuzz_stl fuzz_ply fuzz_obj
+	ctest --test-dir build-fuzz -j$(JOBS) --output-on-failure -R fuzz_
+
+demo: build
+	mkdir -p out
+	$(BUILD)/surgical-template design $(DEMO_CASE) -o out/demo-template.stl --report out/demo-report.json
+	$(BUILD)/surgical-template check out/demo-template.stl
+
+bench: build
+	/usr/bin/python3 bench/run_bench.py --build $(BUILD)
+
+clean:
+	rm -rf $(BUILD) build-asan build-fuzz out

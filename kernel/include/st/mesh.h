@@ -1,0 +1,88 @@
+#pragma once
+// The flat indexed triangle mesh used for I/O, bindings and as the input and output of every
+// algorithm: positions (#V by 3, double, mm) and triangles (#F by 3, 32-bit vertex indices,
+// counter-clockwise seen from outside). Topology (adjacency, boundary loops) is derived from it on
+// demand, see topology.h.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace st {
+
+using Vec3 = Eigen::Vector3d;
+using Index = std::uint32_t;
+inline constexpr Index kInvalidIndex = std::numeric_limits<Index>::max();
+using Triangle = std::array<Index, 3>;
+
+struct TriangleMesh {
+  std::vector<Vec3> positions;
+  std::vector<Triangle> triangles;
+
+  [[nodiscard]] Index vertex_count() const { return static_cast<Index>(positions.size()); }
+  [[nodiscard]] Index face_count() const { return static_cast<Index>(triangles.size()); }
+  [[nodiscard]] bool empty() const { return triangles.empty(); }
+};
+
+struct BoundingBox {
+  Vec3 min = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 max = Vec3::Constant(-std::numeric_limits<double>::infinity());
+
+  void extend(const Vec3& p) {
+    min = min.cwiseMin(p);
+    max = max.cwiseMax(p);
+  }
+  void extend(const BoundingBox& b) {
+    min = min.cwiseMin(b.min);
+    max = max.cwiseMax(b.max);
+  }
+  [[nodiscard]] bool valid() const { return (min.array() <= max.array()).all(); }
+  [[nodiscard]] Vec3 size() const { return max - min; }
+  [[nodiscard]] Vec3 center() const { return 0.5 * (min + max); }
+  [[nodiscard]] double diagonal() const { return valid() ? size().norm() : 0.0; }
+  [[nodiscard]] BoundingBox inflated(double d) const {
+    return {min - Vec3::Constant(d), max + Vec3::Constant(d)};
+  }
+  [[nodiscard]] bool contains(const Vec3& p) const {
+    return (p.array() >= min.array()).all() && (p.array() <= max.array()).all();
+  }
+  [[nodiscard]] bool overlaps(const BoundingBox& b) const {
+    return (min.array() <= b.max.array()).all() && (b.min.array() <= max.array()).all();
+  }
+};
+
+/// Bounding box of all positions (also the unused ones).
+BoundingBox bounding_box(const TriangleMesh& mesh);
+
+/// Bounding box of the three corners of triangle `f`.
+BoundingBox triangle_box(const TriangleMesh& mesh, Index f);
+
+/// Unnormalised normal (twice the area times the unit normal) of triangle `f`.
+Vec3 triangle_normal(const TriangleMesh& mesh, Index f);
+
+/// Sum of triangle areas, mm^2.
+double surface_area(const TriangleMesh& mesh);
+
+/// Signed enclosed volume, mm^3 (positive for a closed, outward-oriented mesh).
+double signed_volume(const TriangleMesh& mesh);
+
+/// Mean edge length, mm (0 for an empty mesh).
+double mean_edge_length(const TriangleMesh& mesh);
+
+/// Area-weighted vertex normals, unit length (zero for unused vertices).
+std::vector<Vec3> vertex_normals(const TriangleMesh& mesh);
+
+/// The sub-mesh made of the listed faces, with only the vertices they use (in first-use order).
+/// `vertex_map`, when given, receives for each new vertex its index in `mesh`.
+TriangleMesh submesh(const TriangleMesh& mesh, const std::vector<Index>& faces,
+                     std::vector<Index>* vertex_map = nullptr);
+
+/// Throws InvalidInput naming the first non-finite coordinate or out-of-range index.
+void check_mesh(const TriangleMesh& mesh, const std::string& what);
+
+} // namespace st

@@ -1,0 +1,71 @@
+#pragma once
+// The initial template, end to end (paper: Methods, steps 1 to 5): boundary curve on the bone, inner
+// surface cut through the triangles, clearance, narrow-band offset at the thickness, outer surface cut
+// by the border samples projected along averaged normals, and the ruled wall joining both borders into
+// one closed shell. The shell is checked (closed, 2-manifold, outward oriented, no self-intersection)
+// and its fit measured before it is returned.
+
+#include "st/mesh.h"
+#include "st/tolerances.h"
+#include "st/validate.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace st {
+
+struct TemplateOptions {
+  std::vector<Vec3> boundary_points;  ///< control points around the region, in order (>= 3)
+  std::optional<Vec3> inside;         ///< a point inside the region to keep; else the smaller side
+  double thickness = 2.5;             ///< outer surface distance from the inner surface, mm (> 0)
+  double clearance = 0.0;             ///< gap between bone and inner surface, mm (>= 0)
+  double resolution = 0.0;            ///< distance-field cell size, mm; 0 lets offset_surface pick
+  int sampling_step = 0;              ///< border points between outer-cut samples; 0 picks ~ thickness apart
+  double max_snap_distance = tol::kMaxSnapDistance_mm;
+  double max_field_cells = tol::kMaxFieldCells;
+  bool check = true;                  ///< run check_solid and the fit measurements on the result
+};
+
+/// Seconds per step, named after the rows of the paper's Table 1.
+struct TemplateTimes {
+  double inner_segmentation = 0.0;
+  double offset = 0.0;
+  double outer_points = 0.0;
+  double outer_segmentation = 0.0;
+  double connection = 0.0;
+  double total = 0.0;      ///< sum of the above: the paper's "initial template generation"
+  double validation = 0.0; ///< not part of total
+};
+
+struct TemplateFit {
+  DistanceStats inner_to_bone;   ///< inner-surface vertices to the bone region (== clearance)
+  DistanceStats outer_to_inner;  ///< outer-surface vertices to the inner surface (== thickness)
+  DistanceStats rim_to_curve;    ///< inner rim vertices to the boundary curve (== 0)
+};
+
+struct TemplateResult {
+  TriangleMesh shell;            ///< the closed template
+  TriangleMesh inner;            ///< inner surface (bone side), oriented as the bone
+  TriangleMesh outer;            ///< outer surface, oriented outward
+  std::vector<Vec3> curve;       ///< the boundary curve on the bone (closed polyline)
+  std::vector<Vec3> outer_curve; ///< the cut curve on the offset surface
+  std::size_t inner_rim_points = 0;
+  std::size_t outer_rim_points = 0;
+  std::size_t wall_triangles = 0;
+  std::size_t offset_triangles = 0; ///< of the offset before the outer cut
+  std::size_t field_voxels = 0;
+  double resolution = 0.0;       ///< the cell size used
+  int sampling_step = 0;         ///< the sampling step used
+  TemplateTimes times;
+  SolidReport solid;             ///< filled when options.check
+  TemplateFit fit;               ///< filled when options.check
+};
+
+/// Designs the initial template on `bone`. Throws InvalidInput for invalid options (naming the
+/// option) and GeometryError when the geometry cannot give a template (see trace_surface_curve and
+/// cut_region); never returns a shell it knows to be broken: when options.check finds it invalid it
+/// throws GeometryError with the report.
+TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& options);
+
+} // namespace st

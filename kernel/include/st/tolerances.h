@@ -1,0 +1,27 @@
+#pragma once
+// The kernel's tolerances, in one place. Lengths are relative to a model scale (a mean edge length or
+// a cell size) unless their name ends in _mm.
+
+namespace st::tol {
+
+/// A cut never lands closer than this fraction of an edge's length to its end points, so no sliver
+/// triangle is made (the cut moves by at most this fraction of an edge).
+inline constexpr double kEdgeCutMargin = 1e-3;
+
+/// Relative step of the cut-curve samples, as a fraction of the mean edge length of the surface.
+inline constexpr double kCurveSampleSpacing = 0.5;
+
+/// Upper bound on the number of curve samples (a long loop on a fine mesh is sampled more coarsely).
+inline constexpr int kMaxCurveSamples = 200000;
+
+/// Grid values this close to the iso value (in cell sizes) are moved off it, so no contour vertex
+/// coincides with a grid node.
+inline constexpr double kIsoValueMargin = 1e-4;
+
+/// Default largest distance of a control point from the surface before it is refused, mm.
+inline constexpr double kMaxSnapDistance_mm = 5.0;
+
+/// Largest number of distance-field cells a design may use before it is refused (memory budget).
+inline constexpr double kMaxFieldCells = 6.0e7;
+
+} // namespace st::tol

@@ -1,0 +1,45 @@
+#include "convert.h"
+
+#include "st/case_file.h"
+
+#include <pybind11/stl.h>
+
+namespace py = pybind11;
+using namespace st;
+using namespace st::py_convert;
+
+void bind_case(py::module_& m) {
+  m.attr("CASE_FORMAT") = kCaseFormat;
+  m.def(
+      "read_case",
+      [](const std::string& path) {
+        const CaseFile c = read_case(path);
+        py::dict d;
+        d["path"] = c.path;
+        d["name"] = c.name;
+        d["bone"] = c.bone;
+        d["boundary_points"] = from_points(c.boundary_points);
+        d["inside"] = c.inside ? py::object(from_points({*c.inside}).attr("reshape")(3)) : py::object(py::none());
+        d["thickness"] = c.thickness;
+        d["clearance"] = c.clearance;
+        d["resolution"] = c.resolution ? py::object(py::float_(*c.resolution)) : py::object(py::none());
+        d["sampling_step"] = c.sampling_step ? py::object(py::int_(*c.sampling_step)) : py::object(py::none());
+        py::list tubes;
+        for (const TubeSpec& t : c.tubes) {
+          py::dict td;
+          td["name"] = t.name;
+          td["entry"] = from_points({t.entry}).attr("reshape")(3);
+          td["direction"] = from_points({t.direction}).attr("reshape")(3);
+          td["inner_radius"] = t.inner_radius;
+          td["outer_radius"] = t.outer_radius;
+          td["length"] = t.length;
+          td["offset"] = t.offset;
+          tubes.append(td);
+        }
+        d["tubes"] = tubes;
+        d["output"] = c.output ? py::object(py::str(*c.output)) : py::object(py::none());
+        d["warnings"] = c.warnings;
+        return d;
+      },
+      py::arg("path"), "Reads and checks a case file (surgical-template-case/1); raises ValueError naming the key.");
+}

@@ -1,0 +1,85 @@
+#include "convert.h"
+
+#include "st/mesh_io.h"
+#include "st/validate.h"
+
+namespace py = pybind11;
+using namespace st;
+using namespace st::py_convert;
+
+py::dict solid_dict(const SolidReport& r) {
+  py::dict d;
+  d["valid"] = r.valid();
+  d["closed"] = r.closed();
+  d["manifold"] = r.manifold();
+  d["oriented"] = r.oriented();
+  d["border_edges"] = r.border_edges;
+  d["nonmanifold_edges"] = r.nonmanifold_edges;
+  d["nonmanifold_vertices"] = r.nonmanifold_vertices;
+  d["misoriented_edges"] = r.misoriented_edges;
+  d["degenerate_triangles"] = r.degenerate_triangles;
+  d["self_intersections"] = r.self_intersections;
+  d["components"] = r.components;
+  d["area"] = r.area;
+  d["volume"] = r.volume;
+  d["summary"] = r.summary();
+  d["problem_points"] = from_points(r.problem_points);
+  return d;
+}
+
+void bind_mesh(py::module_& m) {
+  m.def(
+      "read_mesh",
+      [](const std::string& path) {
+        TriangleMesh mesh;
+        {
+          py::gil_scoped_release release;
+          mesh = read_mesh(path);
+        }
+        return from_mesh(mesh);
+      },
+      py::arg("path"),
+      "Reads an STL (binary or ASCII), PLY or OBJ file. Returns (vertices (n,3) float64, triangles (m,3) int32).");
+  m.def(
+      "write_stl",
+      [](const Points& v, const Faces& f, const std::string& path) {
+        const TriangleMesh mesh = to_mesh(v, f, "mesh");
+        py::gil_scoped_release release;
+        write_stl(mesh, path);
+      },
+      py::arg("vertices"), py::arg("triangles"), py::arg("path"), "Writes a binary STL (atomically).");
+  m.def(
+      "check_solid",
+      [](const Points& v, const Faces& f, bool self_intersections) {
+        const TriangleMesh mesh = to_mesh(v, f, "mesh");
+        SolidOptions o;
+        o.check_self_intersections = self_intersections;
+        SolidReport r;
+        {
+          py::gil_scoped_release release;
+          r = check_solid(mesh, o);
+        }
+        return solid_dict(r);
+      },
+      py::arg("vertices"), py::arg("triangles"), py::arg("self_intersections") = true,
+      "Checks a mesh as a solid: closed, 2-manifold, outward oriented, no self-intersection. Returns a dict.");
+  m.def(
+      "distances_to_surface",
+      [](const Points& points, const Points& v, const Faces& f) {
+        const auto p = to_points(points, "points");
+        const TriangleMesh mesh = to_mesh(v, f, "surface");
+        DistanceStats s;
+        {
+          py::gil_scoped_release release;
+          s = distances_to_surface(p, mesh);
+        }
+        py::dict d;
+        d["min"] = s.min;
+        d["max"] = s.max;
+        d["mean"] = s.mean;
+        d["count"] = s.count;
+        return d;
+      },
+      py::arg("points"), py::arg("vertices"), py::arg("triangles"),
+      "Min/max/mean exact distance of points to a triangle surface, mm.");
+}

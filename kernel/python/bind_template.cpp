@@ -1,0 +1,171 @@
+#include "convert.h"
+
+#include "st/cut.h"
+#include "st/offset.h"
+#include "st/ruled_surface.h"
+#include "st/surface_curve.h"
+#include "st/template_design.h"
+#include "st/topology.h"
+
+namespace py = pybind11;
+using namespace st;
+using namespace st::py_convert;
+
+py::dict solid_dict(const SolidReport& r);
+
+namespace {
+
+py::dict stats_dict(const DistanceStats& s) {
+  py::dict d;
+  d["min"] = s.min;
+  d["max"] = s.max;
+  d["mean"] = s.mean;
+  d["count"] = s.count;
+  return d;
+}
+
+} // namespace
+
+void bind_template(py::module_& m) {
+  m.def(
+      "trace_surface_curve",
+      [](const Points& v, const Faces& f, const Points& control_points, double max_snap_distance,
+         bool check_self_crossing) {
+        const TriangleMesh mesh = to_mesh(v, f, "mesh");
+        const auto pts = to_points(control_points, "control_points");
+        SurfaceCurve c;
+        {
+          py::gil_scoped_release release;
+          const MeshTopology topology(mesh);
+          CurveOptions o;
+          o.max_snap_distance = max_snap_distance;
+          o.check_self_crossing = check_self_crossing;
+          c = trace_surface_curve(topology, pts, o);
+        }
+        return from_points(c.polyline);
+      },
+      py::arg("vertices"), py::arg("triangles"), py::arg("control_points"),
+      py::arg("max_snap_distance") = tol::kMaxSnapDistance_mm, py::arg("check_self_crossing") = true,
+      "The closed curve on the surface through the control points, as an (n,3) polyline.");
+
+  m.def(
+      "cut_region",
+      [](const Points& v, const Faces& f, const Points& control_points, const py::object& inside,
+         double max_snap_distance) {
+        const TriangleMesh mesh = to_mesh(v, f, "mesh");
+        const auto pts = to_points(control_points, "control_points");
+        CutResult r;
+        {
+          CutOptions co;
+          co.inside = to_optional_point(inside, "inside");
+          py::gil_scoped_release release;
+          const MeshTopology topology(mesh);
+          CurveOptions o;
+          o.max_snap_distance = max_snap_distance;
+          o.also_index = co.inside;
+          const SurfaceCurve c = trace_surface_curve(topology, pts, o);
+          r = cut_region(topology, c, co);
+        }
+        py::array_t<std::int32_t> rim(static_cast<py::ssize_t>(r.rim.size()));
+        for (std::size_t i = 0; i < r.rim.size(); ++i) rim.mutable_data()[i] = static_cast<std::int32_t>(r.rim[i]);
+        return py::make_tuple(from_points(r.region.positions), from_triangles(r.region.triangles), rim);
+      },
+      py::arg("vertices"), py::arg("triangles"), py::arg("control_points"), py::arg("inside") = py::none(),
+      py::arg("max_snap_distance") = tol::kMaxSnapDistance_mm,
+      "Cuts the region enclosed by the surface curve through the control points, through the triangles. "
+      "Returns (vertices, triangles, rim) with rim the border loop's vertex indices.");
+
+  m.def(
+      "offset_surface",
+      [](const Points& v, const Faces& f, double distance, double cell_size, bool front_only) {
+        const TriangleMesh mesh = to_mesh(v, f, "surface");
+        OffsetOptions o;
+        o.distance = distance;
+        o.cell_size = cell_size;
+        o.front_only = front_only;
+        OffsetResult r;
+        {
+          py::gil_scoped_release release;
+          r = offset_surface(mesh, o);
+        }
+        return from_mesh(r.surface);
+      },
+      py::arg("vertices"), py::arg("triangles"), py::arg("distance"), py::arg("cell_size") = 0.0,
+      py::arg("front_only") = false,
+      "The iso-surface at `distance` of the surface's unsigned distance field (narrow band, marching tetrahedra).");
+
+  m.def(
+      "ruled_surface",
+      [](const Points& p, const Points& q) {
+        const auto pp = to_points(p, "p");
+        const auto qq = to_points(q, "q");
+        RuledResult r;
+        {
+          py::gil_scoped_release release;
+          r = ruled_surface(pp, qq, 0, static_cast<Index>(pp.size()));
+        }
+        return from_triangles(r.triangles);
+      },
+      py::arg("p"), py::arg("q"),
+      "Triangles (indices: p then q) of the least-span ruled strip joining closed loops p and q.");
+
+  m.def(
+      "design_template",
+      [](const Points& v, const Faces& f, const Points& boundary_points, double thickness, double clearance,
+         double resolution, int sampling_step, const py::object& inside, double max_snap_distance, bool check) {
+        const TriangleMesh bone = to_mesh(v, f, "bone");
+        TemplateOptions o;
+        o.boundary_points = to_points(boundary_points, "boundary_points");
+        o.inside = to_optional_point(inside, "inside");
+        o.thickness = thickness;
+        o.clearance = clearance;
+        o.resolution = resolution;
+        o.sampling_step = sampling_step;
+        o.max_snap_distance = max_snap_distance;
+        o.check = check;
+        TemplateResult r;
+        {
+          py::gil_scoped_release release;
+          r = design_template(bone, o);
+        }
+        py::dict d;
+        d["shell"] = from_mesh(r.shell);
+        d["inner"] = from_mesh(r.inner);
+        d["outer"] = from_mesh(r.outer);
+        d["curve"] = from_points(r.curve);
+        d["outer_curve"] = from_points(r.outer_curve);
+        py::dict counts;
+        counts["inner_rim_points"] = r.inner_rim_points;
+        counts["outer_rim_points"] = r.outer_rim_points;
+        counts["wall_triangles"] = r.wall_triangles;
+        counts["offset_triangles"] = r.offset_triangles;
+        counts["field_voxels"] = r.field_voxels;
+        counts["resolution"] = r.resolution;
+        counts["sampling_step"] = r.sampling_step;
+        d["counts"] = counts;
+        py::dict times;
+        times["inner_segmentation"] = r.times.inner_segmentation;
+        times["offset"] = r.times.offset;
+        times["outer_points"] = r.times.outer_points;
+        times["outer_segmentation"] = r.times.outer_segmentation;
+        times["connection"] = r.times.connection;
+        times["total"] = r.times.total;
+        times["validation"] = r.times.validation;
+        d["times"] = times;
+        if (check) {
+          d["solid"] = solid_dict(r.solid);
+          py::dict fit;
+          fit["inner_to_bone"] = stats_dict(r.fit.inner_to_bone);
+          fit["outer_to_inner"] = stats_dict(r.fit.outer_to_inner);
+          fit["rim_to_curve"] = stats_dict(r.fit.rim_to_curve);
+          d["fit"] = fit;
+        }
+        return d;
+      },
+      py::arg("vertices"), py::arg("triangles"), py::arg("boundary_points"), py::arg("thickness"),
+      py::arg("clearance") = 0.0, py::arg("resolution") = 0.0, py::arg("sampling_step") = 0,
+      py::arg("inside") = py::none(), py::arg("max_snap_distance") = tol::kMaxSnapDistance_mm,
+      py::arg("check") = true,
+      "Designs the initial template (closed shell) on a bone mesh. Returns a dict with 'shell', 'inner', "
+      "'outer' (each (vertices, triangles)), 'curve', 'counts', 'times' (s), 'solid' and 'fit'.");
+}

@@ -1,0 +1,74 @@
+#pragma once
+// numpy <-> kernel conversions shared by the bind_*.cpp files. Arrays are copied by value:
+// positions (n, 3) float64, triangles (m, 3) int32/uint32/int64 (checked against n).
+
+#include "st/errors.h"
+#include "st/mesh.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace st::py_convert {
+
+namespace py = pybind11;
+using Points = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using Faces = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+
+inline std::vector<Vec3> to_points(const Points& a, const std::string& what) {
+  if (a.ndim() != 2 || a.shape(1) != 3)
+    throw InvalidInput(what + ": expected an (n, 3) array of coordinates");
+  std::vector<Vec3> out(static_cast<std::size_t>(a.shape(0)));
+  const double* d = a.data();
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = Vec3(d[3 * i], d[3 * i + 1], d[3 * i + 2]);
+  return out;
+}
+
+inline TriangleMesh to_mesh(const Points& v, const Faces& f, const std::string& what) {
+  TriangleMesh m;
+  m.positions = to_points(v, what + " vertices");
+  if (f.ndim() != 2 || f.shape(1) != 3) throw InvalidInput(what + " triangles: expected an (m, 3) integer array");
+  m.triangles.resize(static_cast<std::size_t>(f.shape(0)));
+  const std::int64_t* d = f.data();
+  for (std::size_t i = 0; i < m.triangles.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const std::int64_t idx = d[3 * i + static_cast<std::size_t>(k)];
+      if (idx < 0 || idx >= static_cast<std::int64_t>(m.positions.size()))
+        throw InvalidInput(what + " triangles: triangle " + std::to_string(i) + " refers to vertex " +
+                           std::to_string(idx) + " of " + std::to_string(m.positions.size()));
+      m.triangles[i][static_cast<std::size_t>(k)] = static_cast<Index>(idx);
+    }
+  check_mesh(m, what);
+  return m;
+}
+
+inline py::array_t<double> from_points(const std::vector<Vec3>& p) {
+  py::array_t<double> a({static_cast<py::ssize_t>(p.size()), py::ssize_t{3}});
+  double* d = a.mutable_data();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (int k = 0; k < 3; ++k) d[3 * i + static_cast<std::size_t>(k)] = p[i][k];
+  return a;
+}
+
+inline py::array_t<std::int32_t> from_triangles(const std::vector<Triangle>& t) {
+  py::array_t<std::int32_t> a({static_cast<py::ssize_t>(t.size()), py::ssize_t{3}});
+  std::int32_t* d = a.mutable_data();
+  for (std::size_t i = 0; i < t.size(); ++i)
+    for (int k = 0; k < 3; ++k) d[3 * i + static_cast<std::size_t>(k)] = static_cast<std::int32_t>(t[i][static_cast<std::size_t>(k)]);
+  return a;
+}
+
+inline py::tuple from_mesh(const TriangleMesh& m) {
+  return py::make_tuple(from_points(m.positions), from_triangles(m.triangles));
+}
+
+inline std::optional<Vec3> to_optional_point(const py::object& o, const std::string& what) {
+  if (o.is_none()) return std::nullopt;
+  const auto pts = to_points(Points(py::array(py::module_::import("numpy").attr("asarray")(o, "float64").attr("reshape")(1, 3))), what);
+  return pts[0];
+}
+
+} // namespace st::py_convert

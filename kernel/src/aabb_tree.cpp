@@ -1,0 +1,277 @@
+#include "st/aabb_tree.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace st {
+
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  // Voronoi-region walk (Ericson, Real-Time Collision Detection, 5.1.5).
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a;
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + ab * (d1 / (d1 - d3));
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
+    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denom = va + vb + vc;
+  if (!(denom > 0.0)) return a; // degenerate triangle
+  const double v = vb / denom, w = vc / denom;
+  return a + ab * v + ac * w;
+}
+
+namespace {
+
+double box_distance_squared(const BoundingBox& b, const Vec3& p) {
+  const Vec3 d = (b.min - p).cwiseMax(p - b.max).cwiseMax(Vec3::Zero());
+  return d.squaredNorm();
+}
+
+bool ray_hits_box(const BoundingBox& b, const Vec3& o, const Vec3& inv_dir, double t0, double t1) {
+  for (int k = 0; k < 3; ++k) {
+    double ta = (b.min[k] - o[k]) * inv_dir[k];
+    double tb = (b.max[k] - o[k]) * inv_dir[k];
+    if (ta > tb) std::swap(ta, tb);
+    if (std::isnan(ta) || std::isnan(tb)) continue; // ray parallel and on the slab border
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+std::optional<double> ray_triangle(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b,
+                                   const Vec3& c) {
+  // Moller-Trumbore, accepting hits on edges.
+  const Vec3 e1 = b - a, e2 = c - a;
+  const Vec3 pv = d.cross(e2);
+  const double det = e1.dot(pv);
+  if (det == 0.0) return std::nullopt;
+  const double inv = 1.0 / det;
+  const Vec3 tv = o - a;
+  const double u = tv.dot(pv) * inv;
+  if (u < 0.0 || u > 1.0) return std::nullopt;
+  const Vec3 qv = tv.cross(e1);
+  const double v = d.dot(qv) * inv;
+  if (v < 0.0 || u + v > 1.0) return std::nullopt;
+  return e2.dot(qv) * inv;
+}
+
+} // namespace
+
+AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces)
+    : mesh_(mesh), faces_(std::move(faces)) {
+  if (faces_.empty()) {
+    faces_.resize(mesh.face_count());
+    std::iota(faces_.begin(), faces_.end(), Index{0});
+  }
+  if (faces_.empty()) return;
+  std::vector<Vec3> centroids(faces_.size());
+  face_boxes_.resize(faces_.size());
+  for (std::size_t i = 0; i < faces_.size(); ++i) {
+    face_boxes_[i] = triangle_box(mesh, faces_[i]);
+    centroids[i] = face_boxes_[i].center();
+  }
+  nodes_.reserve(2 * faces_.size() / 2 + 1);
+  build(0, static_cast<Index>(faces_.size()), centroids);
+}
+
+Index AabbTree::build(Index begin, Index end, std::vector<Vec3>& centroids) {
+  const Index id = static_cast<Index>(nodes_.size());
+  nodes_.emplace_back();
+  BoundingBox box;
+  for (Index i = begin; i < end; ++i) box.extend(face_boxes_[i]);
+  nodes_[id].box = box;
+  if (end - begin <= 4) {
+    nodes_[id].begin = begin;
+    nodes_[id].end = end;
+    return id;
+  }
+  int axis = 0;
+  box.size().maxCoeff(&axis);
+  const Index mid = begin + (end - begin) / 2;
+  // Sort faces_, face_boxes_ and centroids together through a permutation of [begin, end).
+  std::vector<Index> order(end - begin);
+  std::iota(order.begin(), order.end(), begin);
+  std::nth_element(order.begin(), order.begin() + (mid - begin), order.end(),
+                   [&](Index x, Index y) { return centroids[x][axis] < centroids[y][axis]; });
+  {
+    std::vector<Index> f(order.size());
+    std::vector<BoundingBox> b(order.size());
+    std::vector<Vec3> c(order.size());
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      f[i] = faces_[order[i]];
+      b[i] = face_boxes_[order[i]];
+      c[i] = centroids[order[i]];
+    }
+    std::copy(f.begin(), f.end(), faces_.begin() + begin);
+    std::copy(b.begin(), b.end(), face_boxes_.begin() + begin);
+    std::copy(c.begin(), c.end(), centroids.begin() + begin);
+  }
+  const Index left = build(begin, mid, centroids);
+  const Index right = build(mid, end, centroids);
+  nodes_[id].left = left;
+  nodes_[id].right = right;
+  return id;
+}
+
+std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_distance) const {
+  if (nodes_.empty()) return std::nullopt;
+  double best = max_distance * max_distance;
+  ClosestPoint result;
+  bool found = false;
+  // Depth-first, nearer child first.
+  Index stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[stack[--top]];
+    if (box_distance_squared(n.box, p) > best) continue;
+    if (n.left == kInvalidIndex) {
+      for (Index i = n.begin; i < n.end; ++i) {
+        const Triangle& t = mesh_.triangles[faces_[i]];
+        const Vec3 q = closest_point_on_triangle(p, mesh_.positions[t[0]], mesh_.positions[t[1]],
+                                                 mesh_.positions[t[2]]);
+        const double d2 = (q - p).squaredNorm();
+        if (d2 <= best) {
+          best = d2;
+          result.face = faces_[i];
+          result.point = q;
+          found = true;
+        }
+      }
+      continue;
+    }
+    const double dl = box_distance_squared(nodes_[n.left].box, p);
+    const double dr = box_distance_squared(nodes_[n.right].box, p);
+    if (dl < dr) {
+      stack[top++] = n.right;
+      stack[top++] = n.left;
+    } else {
+      stack[top++] = n.left;
+      stack[top++] = n.right;
+    }
+  }
+  if (!found) return std::nullopt;
+  result.distance = std::sqrt(best);
+  return result;
+}
+
+std::optional<RayHit> AabbTree::first_hit(const Vec3& origin, const Vec3& direction, double t_min,
+                                          double t_max) const {
+  if (nodes_.empty()) return std::nullopt;
+  const Vec3 inv = direction.cwiseInverse();
+  RayHit hit;
+  bool found = false;
+  Index stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[stack[--top]];
+    if (!ray_hits_box(n.box, origin, inv, t_min, t_max)) continue;
+    if (n.left == kInvalidIndex) {
+      for (Index i = n.begin; i < n.end; ++i) {
+        const Triangle& t = mesh_.triangles[faces_[i]];
+        const auto s = ray_triangle(origin, direction, mesh_.positions[t[0]], mesh_.positions[t[1]],
+                                    mesh_.positions[t[2]]);
+        if (s && *s >= t_min && *s <= t_max) {
+          t_max = *s;
+          hit.face = faces_[i];
+          hit.t = *s;
+          found = true;
+        }
+      }
+      continue;
+    }
+    stack[top++] = n.left;
+    stack[top++] = n.right;
+  }
+  if (!found) return std::nullopt;
+  hit.point = origin + hit.t * direction;
+  return hit;
+}
+
+void AabbTree::for_each_in_box(const BoundingBox& box, const std::function<void(Index)>& visit) const {
+  if (nodes_.empty()) return;
+  Index stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[stack[--top]];
+    if (!n.box.overlaps(box)) continue;
+    if (n.left == kInvalidIndex) {
+      for (Index i = n.begin; i < n.end; ++i)
+        if (face_boxes_[i].overlaps(box)) visit(faces_[i]);
+      continue;
+    }
+    stack[top++] = n.left;
+    stack[top++] = n.right;
+  }
+}
+
+void AabbTree::self_pairs(Index a, Index b, const std::function<void(Index, Index)>& visit) const {
+  const Node& na = nodes_[a];
+  const Node& nb = nodes_[b];
+  if (a != b && !na.box.overlaps(nb.box)) return;
+  const bool la = na.left == kInvalidIndex, lb = nb.left == kInvalidIndex;
+  if (la && lb) {
+    for (Index i = na.begin; i < na.end; ++i)
+      for (Index j = (a == b ? i + 1 : nb.begin); j < nb.end; ++j)
+        if (face_boxes_[i].overlaps(face_boxes_[j])) visit(faces_[i], faces_[j]);
+    return;
+  }
+  if (a == b) {
+    self_pairs(na.left, na.left, visit);
+    self_pairs(na.right, na.right, visit);
+    self_pairs(na.left, na.right, visit);
+    return;
+  }
+  if (lb || (!la && na.box.diagonal() >= nb.box.diagonal())) {
+    self_pairs(na.left, b, visit);
+    self_pairs(na.right, b, visit);
+  } else {
+    self_pairs(a, nb.left, visit);
+    self_pairs(a, nb.right, visit);
+  }
+}
+
+void AabbTree::for_each_overlapping_pair(const std::function<void(Index, Index)>& visit) const {
+  if (!nodes_.empty()) self_pairs(0, 0, visit);
+}
+
+void AabbTree::cross_pairs(Index a, const AabbTree& other, Index b,
+                           const std::function<void(Index, Index)>& visit) const {
+  const Node& na = nodes_[a];
+  const Node& nb = other.nodes_[b];
+  if (!na.box.overlaps(nb.box)) return;
+  const bool la = na.left == kInvalidIndex, lb = nb.left == kInvalidIndex;
+  if (la && lb) {
+    for (Index i = na.begin; i < na.end; ++i)
+      for (Index j = nb.begin; j < nb.end; ++j)
+        if (face_boxes_[i].overlaps(other.face_boxes_[j])) visit(faces_[i], other.faces_[j]);
+    return;
+  }
+  if (lb || (!la && na.box.diagonal() >= nb.box.diagonal())) {
+    cross_pairs(na.left, other, b, visit);
+    cross_pairs(na.right, other, b, visit);
+  } else {
+    cross_pairs(a, other, nb.left, visit);
+    cross_pairs(a, other, nb.right, visit);
+  }
+}
+
+void AabbTree::for_each_overlapping_pair(const AabbTree& other,
+                                         const std::function<void(Index, Index)>& visit) const {
+  if (!nodes_.empty() && !other.nodes_.empty()) cross_pairs(0, other, 0, visit);
+}
+
+} // namespace st

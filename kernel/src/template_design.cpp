@@ -1,0 +1,240 @@
+#include "st/template_design.h"
+
+#include "st/aabb_tree.h"
+#include "st/cut.h"
+#include "st/errors.h"
+#include "st/offset.h"
+#include "st/ruled_surface.h"
+#include "st/surface_curve.h"
+#include "st/topology.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+
+namespace st {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+void check_options(const TemplateOptions& o) {
+  auto finite_positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  if (!finite_positive(o.thickness))
+    throw InvalidInput("template.thickness must be a finite number > 0 mm, got " + std::to_string(o.thickness));
+  if (o.thickness > 50.0)
+    throw InvalidInput("template.thickness " + std::to_string(o.thickness) + " mm is absurd (over 50 mm)");
+  if (!std::isfinite(o.clearance) || o.clearance < 0.0)
+    throw InvalidInput("template.clearance must be a finite number >= 0 mm, got " + std::to_string(o.clearance));
+  if (o.clearance > 5.0)
+    throw InvalidInput("template.clearance " + std::to_string(o.clearance) + " mm is absurd (over 5 mm)");
+  if (!std::isfinite(o.resolution) || o.resolution < 0.0)
+    throw InvalidInput("template.resolution must be a finite number > 0 mm, got " + std::to_string(o.resolution));
+  if (o.resolution > o.thickness)
+    throw InvalidInput("template.resolution " + std::to_string(o.resolution) +
+                       " mm is coarser than the thickness; use at most thickness / 4");
+  if (o.sampling_step < 0)
+    throw InvalidInput("template.sampling_step must be >= 1, got " + std::to_string(o.sampling_step));
+  if (o.inside && !o.inside->allFinite()) throw InvalidInput("boundary.inside has a non-finite coordinate");
+}
+
+// Moves every vertex along a smoothed normal by `distance` (the clearance between bone and
+// template). Normals are averaged over a few rings first: on scanned bone with slice striations the
+// raw vertex normals turn sharply from one vertex to the next, and displacing along them folds
+// small triangles over.
+void displace(TriangleMesh& mesh, double distance) {
+  if (distance <= 0.0) return;
+  std::vector<Vec3> n = vertex_normals(mesh);
+  const MeshTopology topology(mesh);
+  for (int iteration = 0; iteration < 4; ++iteration) {
+    std::vector<Vec3> next(n.size(), Vec3::Zero());
+    for (Index v = 0; v < mesh.vertex_count(); ++v) {
+      for (Index f : topology.faces_of(v))
+        for (Index w : mesh.triangles[f]) next[v] += n[w];
+      const double len = next[v].norm();
+      next[v] = len > 0.0 ? Vec3(next[v] / len) : n[v];
+    }
+    n = std::move(next);
+  }
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) mesh.positions[v] += distance * n[v];
+}
+
+// The region vertex farthest (in edges) from the border: a point well inside the region.
+Index innermost_vertex(const TriangleMesh& mesh, const std::vector<Index>& rim) {
+  const MeshTopology topology(mesh);
+  std::vector<char> seen(mesh.vertex_count(), 0);
+  std::deque<Index> queue;
+  for (Index v : rim) {
+    seen[v] = 1;
+    queue.push_back(v);
+  }
+  Index last = rim.front();
+  while (!queue.empty()) {
+    const Index v = queue.front();
+    queue.pop_front();
+    last = v;
+    for (Index f : topology.faces_of(v))
+      for (Index w : mesh.triangles[f])
+        if (!seen[w]) {
+          seen[w] = 1;
+          queue.push_back(w);
+        }
+  }
+  return last;
+}
+
+double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * ab)).norm();
+}
+
+} // namespace
+
+TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& options) {
+  check_options(options);
+  check_mesh(bone, "bone mesh");
+  if (bone.empty()) throw InvalidInput("bone mesh: no triangles");
+
+  TemplateResult result;
+  const double T = options.thickness;
+
+  // 1. Inner surface: the boundary curve and the cut.
+  auto t0 = Clock::now();
+  const MeshTopology topology(bone);
+  CurveOptions curve_options;
+  curve_options.max_snap_distance = options.max_snap_distance;
+  curve_options.also_index = options.inside;
+  const SurfaceCurve curve = trace_surface_curve(topology, options.boundary_points, curve_options);
+  CutOptions cut_options;
+  cut_options.inside = options.inside;
+  CutResult inner = cut_region(topology, curve, cut_options);
+  const TriangleMesh bone_region = inner.region;
+  displace(inner.region, options.clearance);
+  result.curve = curve.polyline;
+  result.inner_rim_points = inner.rim.size();
+  result.times.inner_segmentation = seconds_since(t0);
+
+  // 2. Offset of the inner surface.
+  t0 = Clock::now();
+  OffsetOptions offset_options;
+  offset_options.distance = T;
+  offset_options.cell_size = options.resolution; // 0: the offset picks one from T and the mesh
+  offset_options.front_only = true;
+  offset_options.max_cells = options.max_field_cells;
+  const OffsetResult offset = offset_surface(inner.region, offset_options);
+  result.resolution = offset.cell_size;
+  result.field_voxels = offset.band_voxels;
+  result.offset_triangles = offset.surface.face_count();
+  result.times.offset = seconds_since(t0);
+
+  // 3. Points for the outer cut: border samples moved along averaged normals onto the offset.
+  t0 = Clock::now();
+  const std::size_t m = inner.rim.size();
+  double rim_length = 0.0;
+  for (std::size_t i = 0; i < m; ++i)
+    rim_length += (inner.region.positions[inner.rim[(i + 1) % m]] - inner.region.positions[inner.rim[i]]).norm();
+  int step = options.sampling_step;
+  if (step == 0) step = std::max(1, static_cast<int>(std::lround(T / (rim_length / static_cast<double>(m)))));
+  step = std::min<int>(step, static_cast<int>(m / 3));
+  step = std::max(step, 1);
+  result.sampling_step = step;
+  const std::vector<Vec3> normals = vertex_normals(inner.region);
+  const AabbTree offset_tree(offset.surface);
+  std::vector<Vec3> outer_points;
+  const int half = std::max(1, step / 2);
+  for (std::size_t i = 0; i < m; i += static_cast<std::size_t>(step)) {
+    if (m - i < static_cast<std::size_t>(step) / 2 && i != 0) break; // avoid a crowded last sample
+    Vec3 n = Vec3::Zero();
+    for (int k = -half; k <= half; ++k) n += normals[inner.rim[(i + m + static_cast<std::size_t>(k + static_cast<int>(m))) % m]];
+    if (n.squaredNorm() == 0.0) continue;
+    n.normalize();
+    const Vec3& p = inner.region.positions[inner.rim[i]];
+    const auto hit = offset_tree.first_hit(p, n, 0.0, 3.0 * T);
+    if (hit) {
+      outer_points.push_back(hit->point);
+    } else {
+      const auto c = offset_tree.closest_point(p + T * n);
+      if (c) outer_points.push_back(c->point);
+    }
+  }
+  result.times.outer_points = seconds_since(t0);
+
+  // 4. Outer surface: the offset cut along those points, keeping the side above the inner surface.
+  t0 = Clock::now();
+  const MeshTopology offset_topology(offset.surface);
+  const Index centre = innermost_vertex(inner.region, inner.rim);
+  const Vec3 above = inner.region.positions[centre] + T * normals[centre];
+  CurveOptions outer_curve_options;
+  outer_curve_options.max_snap_distance = 2.0 * T;
+  outer_curve_options.also_index = above;
+  outer_curve_options.name = "outer cut";
+  const SurfaceCurve outer_curve = trace_surface_curve(offset_topology, outer_points, outer_curve_options);
+  CutOptions outer_cut_options;
+  outer_cut_options.inside = above;
+  const CutResult outer = cut_region(offset_topology, outer_curve, outer_cut_options);
+  result.outer_curve = outer_curve.polyline;
+  result.outer_rim_points = outer.rim.size();
+  result.times.outer_segmentation = seconds_since(t0);
+
+  // 5. Connection: the ruled wall, and the shell.
+  t0 = Clock::now();
+  std::vector<Vec3> p_loop, q_loop;
+  for (Index v : inner.rim) p_loop.push_back(inner.region.positions[v]);
+  for (Index v : outer.rim) q_loop.push_back(outer.region.positions[v]);
+  const Index n_inner = inner.region.vertex_count();
+  TriangleMesh& shell = result.shell;
+  shell.positions = inner.region.positions;
+  shell.positions.insert(shell.positions.end(), outer.region.positions.begin(), outer.region.positions.end());
+  for (const Triangle& t : inner.region.triangles) shell.triangles.push_back({t[0], t[2], t[1]});
+  for (const Triangle& t : outer.region.triangles)
+    shell.triangles.push_back({t[0] + n_inner, t[1] + n_inner, t[2] + n_inner});
+  // The wall uses loop positions 0..m-1 / 0..n-1; map them to shell vertex indices afterwards.
+  const RuledResult wall = ruled_surface(p_loop, q_loop, 0, static_cast<Index>(m));
+  for (const Triangle& t : wall.triangles) {
+    Triangle s{};
+    for (int k = 0; k < 3; ++k)
+      s[k] = t[k] < m ? inner.rim[t[k]] : outer.rim[t[k] - m] + n_inner;
+    shell.triangles.push_back(s);
+  }
+  result.wall_triangles = wall.triangles.size();
+  result.inner = std::move(inner.region);
+  result.outer = outer.region;
+  result.times.connection = seconds_since(t0);
+  result.times.total = result.times.inner_segmentation + result.times.offset + result.times.outer_points +
+                       result.times.outer_segmentation + result.times.connection;
+
+  if (options.check) {
+    t0 = Clock::now();
+    result.solid = check_solid(shell);
+    if (!result.solid.valid())
+      throw GeometryError("the template shell failed its check: " + result.solid.summary());
+    result.fit.inner_to_bone = distances_to_surface(result.inner.positions, bone_region);
+    result.fit.outer_to_inner = distances_to_surface(result.outer.positions, result.inner);
+    DistanceStats rim;
+    rim.min = std::numeric_limits<double>::infinity();
+    double sum = 0.0;
+    const auto& poly = curve.polyline;
+    for (const Vec3& p : p_loop) {
+      // The curve lies on the bone, so the expected distance is the clearance.
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < poly.size(); ++i)
+        best = std::min(best, point_segment_distance(p, poly[i], poly[(i + 1) % poly.size()]));
+      rim.min = std::min(rim.min, best);
+      rim.max = std::max(rim.max, best);
+      sum += best;
+    }
+    rim.count = p_loop.size();
+    rim.mean = rim.count ? sum / static_cast<double>(rim.count) : 0.0;
+    result.fit.rim_to_curve = rim;
+    result.times.validation = seconds_since(t0);
+  }
+  return result;
+}
+
+} // namespace st

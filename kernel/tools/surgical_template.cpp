@@ -1,0 +1,182 @@
+// surgical-template: designs a surgical template from a case file (docs/CASE-FORMAT.md).
+//
+//   surgical-template design CASE.json [-o OUT.stl] [--report REPORT.json]
+//   surgical-template check MESH
+//
+// Exit codes: 0 done, 1 the geometry cannot give a template (message says where), 2 invalid input.
+
+#include "st/case_file.h"
+#include "st/errors.h"
+#include "st/mesh_io.h"
+#include "st/template_design.h"
+#include "st/validate.h"
+
+#include <nlohmann/json.hpp>
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage:\n"
+    "  surgical-template design CASE.json [-o OUT.stl] [--report REPORT.json]\n"
+    "      design the template of a case file; writes the STL to -o, else to the case's \"output\"\n"
+    "  surgical-template check MESH\n"
+    "      report whether a mesh is a closed, 2-manifold, oriented solid without self-intersections\n";
+
+double peak_memory_mb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
+
+nlohmann::json stats(const st::DistanceStats& s) {
+  return {{"min", s.min}, {"max", s.max}, {"mean", s.mean}, {"count", s.count}};
+}
+
+void write_text_atomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) throw st::InvalidInput(path + ": cannot write the report");
+    out << text;
+    if (!out) throw st::InvalidInput(path + ": cannot write the report");
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+int design(int argc, char** argv) {
+  std::string case_path, out_path, report_path;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if ((a == "-o" || a == "--output") && i + 1 < argc) out_path = argv[++i];
+    else if (a == "--report" && i + 1 < argc) report_path = argv[++i];
+    else if (!a.empty() && a[0] != '-' && case_path.empty()) case_path = a;
+    else throw st::InvalidInput("unexpected argument '" + a + "'\n" + kUsage);
+  }
+  if (case_path.empty()) throw st::InvalidInput(std::string("no case file given\n") + kUsage);
+
+  const auto t_start = std::chrono::steady_clock::now();
+  const st::CaseFile c = st::read_case(case_path);
+  for (const std::string& w : c.warnings) std::cerr << "warning: " << w << "\n";
+  if (out_path.empty()) {
+    if (!c.output) throw st::InvalidInput(case_path + ": no \"output\" in the case and no -o given");
+    out_path = *c.output;
+  }
+  if (!c.tubes.empty())
+    std::cerr << "note: the case has " << c.tubes.size()
+              << " drilling tube(s); this version designs the template body only and does not merge "
+                 "sleeves yet\n";
+
+  const auto t_read = std::chrono::steady_clock::now();
+  st::ReadReport read_report;
+  const st::TriangleMesh bone = st::read_mesh(c.bone, &read_report);
+  const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_read).count();
+
+  st::TemplateOptions o;
+  o.boundary_points = c.boundary_points;
+  o.inside = c.inside;
+  o.thickness = c.thickness;
+  o.clearance = c.clearance;
+  o.resolution = c.resolution.value_or(0.0);
+  o.sampling_step = c.sampling_step.value_or(0);
+  const st::TemplateResult r = st::design_template(bone, o);
+
+  const std::filesystem::path out_file(out_path);
+  if (out_file.has_parent_path()) std::filesystem::create_directories(out_file.parent_path());
+  st::write_stl(r.shell, out_path, "surgical-template " + c.name);
+
+  const auto& t = r.times;
+  std::printf("%s: template of %zu triangles, volume %.1f mm^3 -> %s\n", c.name.c_str(), r.shell.triangles.size(),
+              r.solid.volume, out_path.c_str());
+  std::printf("  %s\n", r.solid.summary().c_str());
+  std::printf("  fit: inner surface %.3f mm from bone (max), outer surface %.3f..%.3f mm from inner, rim %.4f mm from curve (max)\n",
+              r.fit.inner_to_bone.max, r.fit.outer_to_inner.min, r.fit.outer_to_inner.max, r.fit.rim_to_curve.max);
+  std::printf("  times (s): inner %.3f  offset %.3f  outer points %.3f  outer cut %.3f  connection %.3f  total %.3f\n",
+              t.inner_segmentation, t.offset, t.outer_points, t.outer_segmentation, t.connection, t.total);
+
+  if (!report_path.empty()) {
+    nlohmann::json rep;
+    rep["case"] = c.name;
+    rep["output"] = out_path;
+    rep["input"] = {{"triangles", bone.face_count()},
+                    {"points", bone.vertex_count()},
+                    {"degenerate_dropped", read_report.degenerate_dropped},
+                    {"read_seconds", read_seconds}};
+    rep["counts"] = {{"edge_points_of_inner_surface", r.inner_rim_points},
+                     {"triangles_of_inner_surface", r.inner.face_count()},
+                     {"points_of_inner_surface", r.inner.vertex_count()},
+                     {"edge_points_of_outer_surface", r.outer_rim_points},
+                     {"triangles_of_outer_surface", r.outer.face_count()},
+                     {"offset_triangles", r.offset_triangles},
+                     {"field_voxels", r.field_voxels},
+                     {"wall_triangles", r.wall_triangles},
+                     {"template_triangles", r.shell.face_count()},
+                     {"drilling_tubes", c.tubes.size()},
+                     {"sampling_step", r.sampling_step},
+                     {"resolution", r.resolution}};
+    rep["times"] = {{"inner_surface_segmentation", t.inner_segmentation},
+                    {"offset_of_inner_surface", t.offset},
+                    {"points_for_outer_surface_segmentation", t.outer_points},
+                    {"outer_surface_segmentation", t.outer_segmentation},
+                    {"connection_of_inner_and_outer_surfaces", t.connection},
+                    {"initial_template_generation", t.total},
+                    {"validation", t.validation},
+                    {"wall_clock", std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()}};
+    rep["peak_memory_mb"] = peak_memory_mb();
+    rep["solid"] = {{"valid", r.solid.valid()},
+                    {"closed", r.solid.closed()},
+                    {"manifold", r.solid.manifold()},
+                    {"oriented", r.solid.oriented()},
+                    {"self_intersections", r.solid.self_intersections},
+                    {"components", r.solid.components},
+                    {"volume", r.solid.volume},
+                    {"area", r.solid.area}};
+    rep["fit"] = {{"inner_to_bone", stats(r.fit.inner_to_bone)},
+                  {"outer_to_inner", stats(r.fit.outer_to_inner)},
+                  {"rim_to_curve", stats(r.fit.rim_to_curve)},
+                  {"thickness", c.thickness},
+                  {"clearance", c.clearance}};
+    write_text_atomically(report_path, rep.dump(2) + "\n");
+  }
+  return 0;
+}
+
+int check(int argc, char** argv) {
+  if (argc != 3) throw st::InvalidInput(std::string("check needs one mesh file\n") + kUsage);
+  const st::TriangleMesh mesh = st::read_mesh(argv[2]);
+  const st::SolidReport r = st::check_solid(mesh);
+  std::printf("%s: %s\n", argv[2], r.summary().c_str());
+  return r.valid() ? 0 : 1;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const std::string command = argc > 1 ? argv[1] : "";
+    if (command == "design") return design(argc, argv);
+    if (command == "check") return check(argc, argv);
+    if (command == "-h" || command == "--help") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+    std::fputs(kUsage, stderr);
+    return 2;
+  } catch (const st::InvalidInput& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  } catch (const st::GeometryError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,83 @@
+#pragma once
+// Fixtures built in code and assertion helpers for the kernel tests.
+
+#include "st/mesh.h"
+#include "st/validate.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <string>
+
+namespace st::test {
+
+/// Icosphere of the given radius: an icosahedron subdivided `levels` times (20 * 4^levels triangles).
+inline TriangleMesh make_icosphere(double radius, int levels, const Vec3& centre = Vec3::Zero()) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  TriangleMesh m;
+  m.positions = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                 {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  m.triangles = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
+                 {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (int l = 0; l < levels; ++l) {
+    std::map<std::pair<Index, Index>, Index> mid;
+    auto midpoint = [&](Index a, Index b) {
+      const auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      m.positions.push_back(0.5 * (m.positions[a] + m.positions[b]));
+      return mid[key] = static_cast<Index>(m.positions.size() - 1);
+    };
+    std::vector<Triangle> next;
+    for (const Triangle& tri : m.triangles) {
+      const Index a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]), c = midpoint(tri[2], tri[0]);
+      next.push_back({tri[0], a, c});
+      next.push_back({tri[1], b, a});
+      next.push_back({tri[2], c, b});
+      next.push_back({a, b, c});
+    }
+    m.triangles = std::move(next);
+  }
+  for (Vec3& p : m.positions) p = centre + radius * p.normalized();
+  return m;
+}
+
+/// Height field z = f(x, y) over [x0, x1] x [y0, y1], n x n quads split in two, normals up.
+template <class F>
+TriangleMesh make_height_field(double x0, double x1, double y0, double y1, int n, F f) {
+  TriangleMesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = x0 + (x1 - x0) * i / n, y = y0 + (y1 - y0) * j / n;
+      m.positions.emplace_back(x, y, f(x, y));
+    }
+  auto id = [&](int i, int j) { return static_cast<Index>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      m.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return m;
+}
+
+/// Closed box [0,a]x[0,b]x[0,c] made of a fine grid on each side (for open / closed solids).
+inline std::string examples_dir() { return ST_EXAMPLES_DIR; }
+
+inline std::string output_dir() {
+  std::filesystem::create_directories(ST_TEST_OUTPUT_DIR);
+  return ST_TEST_OUTPUT_DIR;
+}
+
+inline void expect_valid_solid(const TriangleMesh& mesh) {
+  const SolidReport r = check_solid(mesh);
+  EXPECT_TRUE(r.closed()) << r.summary();
+  EXPECT_TRUE(r.manifold()) << r.summary();
+  EXPECT_TRUE(r.oriented()) << r.summary();
+  EXPECT_EQ(r.self_intersections, 0u) << r.summary();
+  EXPECT_EQ(r.degenerate_triangles, 0u) << r.summary();
+}
+
+} // namespace st::test

@@ -1,0 +1,83 @@
+// Ruled wall: m + n triangles, every contour segment used once, no crossing, consistent orientation.
+
+#include "helpers.h"
+
+#include "st/errors.h"
+#include "st/ruled_surface.h"
+#include "st/triangle_intersection.h"
+
+#include <numbers>
+
+using namespace st;
+
+namespace {
+
+std::vector<Vec3> ellipse(int n, double a, double b, double z, double phase) {
+  std::vector<Vec3> pts;
+  for (int i = 0; i < n; ++i) {
+    const double t = phase + 2 * std::numbers::pi * i / n;
+    pts.emplace_back(a * std::cos(t), b * std::sin(t), z + 0.3 * std::sin(3 * t));
+  }
+  return pts;
+}
+
+} // namespace
+
+TEST(RuledSurface, HasMPlusNTrianglesUsingEverySegmentOnce) {
+  const auto p = ellipse(37, 10, 6, 0, 0.0);
+  const auto q = ellipse(53, 10.5, 6.4, 2.5, 1.0);
+  const RuledResult r = ruled_surface(p, q, 0, 37);
+  ASSERT_EQ(r.triangles.size(), 37u + 53u);
+  // Each P segment i -> i+1 and each Q segment j+1 -> j appears exactly once.
+  std::map<std::pair<Index, Index>, int> uses;
+  for (const Triangle& t : r.triangles)
+    for (int k = 0; k < 3; ++k) uses[{t[k], t[(k + 1) % 3]}]++;
+  for (Index i = 0; i < 37; ++i) EXPECT_EQ((uses[{i, (i + 1) % 37}]), 1) << i;
+  for (Index j = 0; j < 53; ++j) EXPECT_EQ((uses[{37 + (j + 1) % 53, 37 + j}]), 1) << j;
+  // Spans are shared by exactly two triangles in opposite directions: the strip is a closed band.
+  for (const auto& [e, n] : uses) {
+    const bool p_seg = e.first < 37 && e.second < 37;
+    const bool q_seg = e.first >= 37 && e.second >= 37;
+    if (p_seg || q_seg) continue;
+    EXPECT_EQ(n, 1);
+    EXPECT_EQ((uses[{e.second, e.first}]), 1);
+  }
+}
+
+TEST(RuledSurface, StripDoesNotCrossItself) {
+  const auto p = ellipse(60, 10, 6, 0, 0.0);
+  const auto q = ellipse(90, 10.8, 6.6, 2.5, 2.0);
+  std::vector<Vec3> pts = p;
+  pts.insert(pts.end(), q.begin(), q.end());
+  const RuledResult r = ruled_surface(p, q, 0, 60);
+  for (std::size_t a = 0; a < r.triangles.size(); ++a)
+    for (std::size_t b = a + 1; b < r.triangles.size(); ++b) {
+      const Triangle& ta = r.triangles[a];
+      const Triangle& tb = r.triangles[b];
+      EXPECT_FALSE(mesh_triangles_intersect(ta, {pts[ta[0]], pts[ta[1]], pts[ta[2]]}, tb,
+                                            {pts[tb[0]], pts[tb[1]], pts[tb[2]]}))
+          << a << " " << b;
+    }
+}
+
+TEST(RuledSurface, PicksAGoodStartForRotatedLoops) {
+  // Q is P lifted and rotated in index: the best strip pairs each P_i with the Q above it.
+  const auto p = ellipse(40, 10, 6, 0, 0.0);
+  auto q = ellipse(40, 10, 6, 2.0, 0.0);
+  std::rotate(q.begin(), q.begin() + 17, q.end());
+  const RuledResult r = ruled_surface(p, q, 0, 40);
+  // Every span is about 2 mm long (the lift), none cuts across the ellipse.
+  for (const Triangle& t : r.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const Index a = t[k], b = t[(k + 1) % 3];
+      if ((a < 40) != (b < 40)) {
+        const Vec3 pa = a < 40 ? p[a] : q[a - 40];
+        const Vec3 pb = b < 40 ? p[b] : q[b - 40];
+        EXPECT_LT((pa - pb).norm(), 3.0);
+      }
+    }
+}
+
+TEST(RuledSurface, RefusesTooShortLoops) {
+  EXPECT_THROW(ruled_surface({Vec3::Zero()}, {Vec3::Zero(), Vec3::UnitX()}, 0, 1), InvalidInput);
+}

@@ -1,0 +1,167 @@
+// The initial template end to end: on shapes built in code and on every example case (real meshes).
+
+#include "helpers.h"
+
+#include "st/case_file.h"
+#include "st/errors.h"
+#include "st/mesh_io.h"
+#include "st/template_design.h"
+
+#include <filesystem>
+#include <numbers>
+
+using namespace st;
+using namespace st::test;
+
+namespace {
+
+TemplateOptions dome_options(double thickness) {
+  TemplateOptions o;
+  for (int i = 0; i < 10; ++i) {
+    const double a = 2.0 * std::numbers::pi * i / 10 + 0.05;
+    o.boundary_points.emplace_back(12.0 * std::cos(a), 9.0 * std::sin(a), 0.0);
+  }
+  o.thickness = thickness;
+  return o;
+}
+
+TriangleMesh bumpy_sphere() {
+  TriangleMesh s = make_icosphere(20.0, 5);
+  for (Vec3& p : s.positions) {
+    const Vec3 u = p.normalized();
+    p = u * (20.0 + 0.6 * std::sin(5 * u.x()) * std::cos(4 * u.y()) + 0.4 * std::sin(7 * u.z()));
+  }
+  return s;
+}
+
+} // namespace
+
+TEST(Template, OnABumpySphereIsAValidSolidAtTheThickness) {
+  const TriangleMesh bone = bumpy_sphere();
+  TemplateOptions o;
+  for (int i = 0; i < 9; ++i) {
+    const double a = 2.0 * std::numbers::pi * i / 9;
+    const Vec3 d(std::sin(0.7) * std::cos(a), std::sin(0.7) * std::sin(a), std::cos(0.7));
+    o.boundary_points.push_back(20.0 * d);
+  }
+  o.thickness = 2.5;
+  o.resolution = 0.25;
+  const TemplateResult r = design_template(bone, o);
+  expect_valid_solid(r.shell);
+  EXPECT_EQ(r.solid.components, 1u);
+  // Inner surface on the bone, outer at the thickness within the field's resolution, rim on the curve.
+  EXPECT_LT(r.fit.inner_to_bone.max, 1e-6);
+  EXPECT_GT(r.fit.outer_to_inner.min, 2.5 - 0.25);
+  EXPECT_LT(r.fit.outer_to_inner.max, 2.5 + 0.25);
+  EXPECT_LT(r.fit.rim_to_curve.max, 1e-6);
+  // Volume of a shell of thickness T over a cap of area A on a sphere of radius R:
+  // A * T * (1 + T/R + T^2/(3 R^2)).
+  const double cap_area = surface_area(r.inner), R = 20.0, T = 2.5;
+  const double shell = cap_area * T * (1.0 + T / R + T * T / (3.0 * R * R));
+  EXPECT_NEAR(r.solid.volume, shell, 0.03 * shell);
+  EXPECT_EQ(r.wall_triangles, r.inner_rim_points + r.outer_rim_points);
+}
+
+TEST(Template, ClearanceMovesTheInnerSurfaceOffTheBone) {
+  const TriangleMesh bone = bumpy_sphere();
+  TemplateOptions o;
+  for (int i = 0; i < 9; ++i) {
+    const double a = 2.0 * std::numbers::pi * i / 9;
+    const Vec3 d(std::sin(0.6) * std::cos(a), std::sin(0.6) * std::sin(a), std::cos(0.6));
+    o.boundary_points.push_back(20.0 * d);
+  }
+  o.thickness = 3.0;
+  o.clearance = 0.2;
+  const TemplateResult r = design_template(bone, o);
+  expect_valid_solid(r.shell);
+  EXPECT_NEAR(r.fit.inner_to_bone.max, 0.2, 0.02);
+  EXPECT_GT(r.fit.inner_to_bone.min, 0.15);
+}
+
+TEST(Template, OnAFlatPlateTheVolumeIsAreaTimesThickness) {
+  const TriangleMesh plate = make_height_field(-20, 20, -20, 20, 60, [](double, double) { return 0.0; });
+  const TemplateOptions o = dome_options(2.0);
+  const TemplateResult r = design_template(plate, o);
+  expect_valid_solid(r.shell);
+  const double area = surface_area(r.inner);
+  EXPECT_NEAR(area, std::numbers::pi * 12.0 * 9.0, 0.01 * std::numbers::pi * 12.0 * 9.0);
+  EXPECT_NEAR(r.solid.volume, area * 2.0, 0.03 * area * 2.0);
+}
+
+TEST(Template, BadOptionsAreRefusedNamingTheOption) {
+  const TriangleMesh plate = make_height_field(-20, 20, -20, 20, 20, [](double, double) { return 0.0; });
+  auto refused = [&](TemplateOptions o, const std::string& key) {
+    try {
+      design_template(plate, o);
+      ADD_FAILURE() << key << " accepted";
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
+  TemplateOptions o = dome_options(0.0);
+  refused(o, "thickness");
+  o = dome_options(-1.0);
+  refused(o, "thickness");
+  o = dome_options(1000.0);
+  refused(o, "thickness");
+  o = dome_options(std::nan(""));
+  refused(o, "thickness");
+  o = dome_options(2.0);
+  o.clearance = -0.5;
+  refused(o, "clearance");
+  o = dome_options(2.0);
+  o.resolution = 0.0005; // would need billions of cells
+  refused(o, "resolution");
+  o = dome_options(2.0);
+  o.boundary_points.resize(2);
+  refused(o, "3 control points");
+}
+
+TEST(Template, NothingEnclosedIsAGeometryError) {
+  const TriangleMesh plate = make_height_field(-20, 20, -20, 20, 20, [](double, double) { return 0.0; });
+  TemplateOptions o;
+  o.boundary_points = {{0.1, 0.1, 0}, {0.2, 0.1, 0}, {0.15, 0.2, 0}}; // inside one triangle
+  o.thickness = 2.0;
+  EXPECT_THROW(design_template(plate, o), GeometryError);
+}
+
+// Every example case (real anatomical meshes) gives a valid template that fits its bone.
+class ExampleCase : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ExampleCase, DesignsAValidTemplate) {
+  const CaseFile c = read_case(GetParam());
+  const TriangleMesh bone = read_mesh(c.bone);
+  TemplateOptions o;
+  o.boundary_points = c.boundary_points;
+  o.inside = c.inside;
+  o.thickness = c.thickness;
+  o.clearance = c.clearance;
+  o.resolution = c.resolution.value_or(0.0);
+  o.sampling_step = c.sampling_step.value_or(0);
+  const TemplateResult r = design_template(bone, o);
+  expect_valid_solid(r.shell);
+  EXPECT_EQ(r.solid.components, 1u);
+  EXPECT_NEAR(r.fit.inner_to_bone.max, c.clearance, 1e-3 + 0.1 * c.clearance);
+  EXPECT_GT(r.fit.outer_to_inner.min, c.thickness - r.resolution);
+  EXPECT_LT(r.fit.outer_to_inner.max, c.thickness + r.resolution);
+  EXPECT_LT(r.fit.rim_to_curve.max, c.clearance + 1e-3);
+  write_stl(r.shell, output_dir() + "/" + c.name + ".stl");
+}
+
+std::vector<std::string> example_cases() {
+  std::vector<std::string> out;
+  const std::filesystem::path dir = std::filesystem::path(ST_EXAMPLES_DIR) / "cases";
+  if (std::filesystem::exists(dir))
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+      if (e.path().extension() == ".json") out.push_back(e.path().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, ExampleCase, ::testing::ValuesIn(example_cases()),
+                         [](const auto& info) {
+                           std::string n = std::filesystem::path(info.param).stem().string();
+                           for (char& ch : n)
+                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                           return n;
+                         });
