@@ -133,8 +133,8 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
   };
 
   // Where is the inside point?
-  Index inside_face = kInvalidIndex;
-  if (options.inside) {
+  Index inside_face = options.inside_face;
+  if (options.inside && inside_face == kInvalidIndex) {
     double best = std::numeric_limits<double>::infinity();
     for (Index f : curve.local_faces) {
       const Triangle& t = mesh.triangles[f];

@@ -4,6 +4,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <climits>
 
 namespace st::detail {
@@ -13,9 +14,10 @@ bool is_gzip(const char* data, std::size_t size) {
 }
 
 std::vector<char> gunzip(const char* data, std::size_t size, const std::string& name, std::size_t max_size) {
+  if (max_size == 0) max_size = std::min<std::size_t>(std::size_t{4} << 30, 1032 * size + (std::size_t{1} << 20));
   z_stream z{};
   if (inflateInit2(&z, 15 + 32) != Z_OK) throw InvalidInput(name + ": cannot start gzip decompression");
-  std::vector<char> out(std::max<std::size_t>(size * 3, 1 << 16));
+  std::vector<char> out(std::min(max_size, std::max<std::size_t>(size * 3, 1 << 16)));
   std::size_t produced = 0;
   std::size_t consumed = 0;
   int rc = Z_OK;

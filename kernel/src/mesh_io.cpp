@@ -214,8 +214,8 @@ private:
 
 // ---- STL ----------------------------------------------------------------------------------------
 
-/// Welds STL corners: a flat open-addressing hash table (linear probing, at most half full) keyed on
-/// the three float32 bit patterns. -0.0 must be turned into 0.0 by the caller.
+/// Welds STL corners: a flat open-addressing hash table (linear probing, at most half full) keyed
+/// on the three float32 bit patterns. -0.0 must be turned into 0.0 by the caller.
 class CornerWelder {
 public:
   explicit CornerWelder(std::size_t expected_vertices) {
@@ -318,8 +318,8 @@ TriangleMesh read_stl_binary(const char* data, const std::string& name, ReadRepo
   CornerWelder welder(n / 2 + n / 16 + 4);
 
   // Corners go through the welder in batches: first all their slots are prefetched, so the cache
-  // misses of a batch overlap, then they are looked up in file order (vertices are numbered in order
-  // of first appearance).
+  // misses of a batch overlap, then they are looked up in file order (vertices are numbered in
+  // order of first appearance).
   constexpr std::size_t kBatch = 32;  // triangles
   std::uint32_t bits[kBatch * 3][3];
   std::uint64_t hashes[kBatch * 3];
@@ -1108,8 +1108,9 @@ TriangleMesh read_mesh_from_memory(const char* data, std::size_t size, MeshForma
 
 TriangleMesh read_mesh(const std::string& path, ReadReport* report, MeshFormat format) {
   const FileBytes bytes = read_file(path);
-  // A gzip-compressed file (e.g. bone.stl.gz) is read as the file it holds. A binary STL header is
-  // free text and may start with the gzip magic too, so a file of exact binary STL size is not gzip.
+  // A gzip-compressed file (e.g. bone.stl.gz) is read as the file it holds. A binary STL header
+  // is free text and may start with the gzip magic too, so a file of exact binary STL size is
+  // taken as STL.
   const bool exact_binary_stl =
       bytes.size >= kStlHeaderBytes &&
       kStlHeaderBytes + kStlTriangleBytes * std::uint64_t{load_u32_le(bytes.data.get() + 80)} ==
@@ -1191,7 +1192,8 @@ void write_stl(const TriangleMesh& mesh, const std::string& path, const std::str
     for (int k = 0; k < 3; ++k)
       for (int d = 0; d < 3; ++d) values[3 + 3 * k + d] = c[k][d];
     char* record = buffer.data() + used;
-    for (int i = 0; i < 12; ++i) store_u32_le(record + 4 * i, std::bit_cast<std::uint32_t>(values[i]));
+    for (int i = 0; i < 12; ++i)
+      store_u32_le(record + 4 * i, std::bit_cast<std::uint32_t>(values[i]));
     record[48] = record[49] = 0;  // attribute byte count
     used += kStlTriangleBytes;
     if (used == buffer.size()) {

@@ -44,6 +44,24 @@ constexpr int neighbour_slot(int ox, int oy, int oz) { return (ox + 1) + 3 * (oy
 
 using SliceMasks = std::array<std::uint64_t, 8>;
 
+/// Number of set bits, inline (without -mpopcnt, std::popcount is a library call).
+constexpr int bit_count(std::uint64_t m) {
+  m = m - ((m >> 1) & 0x5555555555555555ULL);
+  m = (m & 0x3333333333333333ULL) + ((m >> 2) & 0x3333333333333333ULL);
+  m = (m + (m >> 4)) & 0x0F0F0F0F0F0F0F0FULL;
+  return static_cast<int>((m * 0x0101010101010101ULL) >> 56);
+}
+
+// floor and ceil to integers without a library call (the default x86-64 target has no roundsd).
+std::int64_t floor_int(double x) {
+  const auto i = static_cast<std::int64_t>(x);
+  return i - (x < static_cast<double>(i) ? 1 : 0);
+}
+std::int64_t ceil_int(double x) {
+  const auto i = static_cast<std::int64_t>(x);
+  return i + (x > static_cast<double>(i) ? 1 : 0);
+}
+
 struct Block {
   std::array<float, kBlockNodes> dist;           // unsigned distance, mm (valid where computed)
   std::array<std::int32_t, kBlockNodes> closest; // 8 * triangle + Feature, -1 where not computed
@@ -142,6 +160,8 @@ struct TriangleGeometry {
   Vec3 a, ab, ac;
   double abab = 0.0, abac = 0.0, acac = 0.0;
   double inv_gram = 0.0; // 1 / |ab x ac|^2
+  Vec3 normal = Vec3::Zero(); // unit, zero when degenerate
+  double plane = 0.0;         // normal.a: |normal.p - plane| is a lower bound of the distance
   bool degenerate = false;
 };
 
@@ -235,6 +255,8 @@ struct Patch {
   const TriangleMesh* mesh = nullptr;
   std::vector<TriangleGeometry> triangles;
   std::vector<Vec3> face_normals;   // unit, zero for degenerate triangles
+  std::vector<std::array<Vec3, 3>> side_normals; // unit outward normals of the planes through each
+                                                 // edge perpendicular to the triangle (edge k: k, k+1)
   std::vector<std::int32_t> edge_of; // 3 per triangle: edge k runs from corner k to corner k+1
   std::vector<Vec3> edge_normals;   // unit sum of the adjacent face normals
   std::vector<Vec3> vertex_normals; // unit angle-weighted sum of the incident face normals
@@ -267,6 +289,7 @@ Patch build_patch(const TriangleMesh& mesh, bool with_pseudo_normals) {
   const std::size_t nf = mesh.triangles.size();
   patch.triangles.resize(nf);
   patch.face_normals.resize(nf);
+  patch.side_normals.assign(nf, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   patch.edge_of.resize(3 * nf);
   for (std::size_t t = 0; t < nf; ++t) {
     const Triangle& tri = mesh.triangles[t];
@@ -283,6 +306,12 @@ Patch build_patch(const TriangleMesh& mesh, bool with_pseudo_normals) {
     g.degenerate = !(gram > 1e-12 * g.abab * g.acac) || !(gram > 0.0);
     g.inv_gram = g.degenerate ? 0.0 : 1.0 / gram;
     patch.face_normals[t] = g.degenerate ? Vec3::Zero() : Vec3(n / std::sqrt(gram));
+    g.normal = patch.face_normals[t];
+    g.plane = g.normal.dot(g.a);
+    if (!g.degenerate) {
+      const std::array<Vec3, 3> q = {g.a, g.a + g.ab, g.a + g.ac};
+      for (int k = 0; k < 3; ++k) patch.side_normals[t][k] = (q[(k + 1) % 3] - q[k]).cross(g.normal).normalized();
+    }
     patch.area += 0.5 * std::sqrt(gram);
   }
 
@@ -386,7 +415,7 @@ constexpr std::array<TetCase, 16> make_tet_cases() {
   std::array<TetCase, 16> cases{};
   for (int mask = 1; mask < 15; ++mask) {
     TetCase& c = cases[mask];
-    const int below = std::popcount(static_cast<unsigned>(mask));
+    const int below = bit_count(static_cast<unsigned>(mask));
     if (below == 1 || below == 3) {
       int lone = 0;
       while (((mask >> lone) & 1) != (below == 1 ? 1 : 0)) ++lone;
@@ -469,7 +498,8 @@ struct BandParams {
 struct Contour {
   TriangleMesh mesh;
   std::vector<Index> border_candidates; // vertices on grid edges next to a cube left out
-  std::vector<std::uint8_t> in_front;   // per vertex, front_only: 1 when in front of the patch
+  std::vector<std::int32_t> source;     // per vertex, front_only: closest-feature code of the node
+                                        // the vertex's grid edge starts from
 };
 
 class DistanceBand {
@@ -576,7 +606,7 @@ private:
                std::vector<std::int32_t>& touched);
   void evaluate_block(std::int32_t b, const std::vector<std::uint32_t>& nodes, std::size_t begin,
                       std::size_t end, Scratch& scratch, std::vector<Evaluation>& out) const;
-  void fill_apron(std::int32_t b, std::array<std::int32_t, 1000>& apron) const;
+  void fill_apron(std::int32_t b, int y0, int y1, int z0, int z1, std::array<std::int32_t, 1000>& apron) const;
 
   const Patch& patch_;
   BandParams p_;
@@ -650,8 +680,8 @@ std::array<std::array<std::int64_t, 3>, 2> DistanceBand::seed_range(std::size_t 
   const Vec3 hi = g.a.cwiseMax(b).cwiseMax(c).array() + p_.seed_radius;
   std::array<std::array<std::int64_t, 3>, 2> range{};
   for (int a = 0; a < 3; ++a) {
-    range[0][a] = static_cast<std::int64_t>(std::ceil((lo[a] - p_.origin[a]) / p_.h)) + kIndexOffset;
-    range[1][a] = static_cast<std::int64_t>(std::floor((hi[a] - p_.origin[a]) / p_.h)) + kIndexOffset;
+    range[0][a] = ceil_int((lo[a] - p_.origin[a]) / p_.h) + kIndexOffset;
+    range[1][a] = floor_int((hi[a] - p_.origin[a]) / p_.h) + kIndexOffset;
   }
   return range;
 }
@@ -667,7 +697,7 @@ bool DistanceBand::block_may_hold_seeds(std::size_t t, const std::array<std::int
   if (std::abs(n.dot(centre - g.a)) > reach) return false;
   const std::array<Vec3, 3> q = {g.a, g.a + g.ab, g.a + g.ac};
   for (int k = 0; k < 3; ++k)
-    if ((centre - q[k]).dot((q[(k + 1) % 3] - q[k]).cross(n).normalized()) > reach) return false;
+    if ((centre - q[k]).dot(patch_.side_normals[t][k]) > reach) return false;
   return true;
 }
 
@@ -692,10 +722,12 @@ void DistanceBand::rasterize(std::size_t t, std::int32_t b) {
   const int u = (w + 1) % 3;
   const int v = (w + 2) % 3;
   const std::array<Vec3, 3> q = {g.a, g.a + g.ab, g.a + g.ac};
-  std::array<Vec3, 3> side{};
-  if (!g.degenerate)
-    for (int k = 0; k < 3; ++k) side[k] = (q[(k + 1) % 3] - q[k]).cross(n).normalized();
+  const std::array<Vec3, 3>& side = patch_.side_normals[t];
   auto coordinate = [&](int axis, std::int64_t i) { return o[axis] + h * static_cast<double>(i - kIndexOffset); };
+  const double inv_h = 1.0 / h;
+  const double half = g.degenerate ? 0.0 : r / std::abs(n[w]); // |n[w]| >= 1/sqrt(3)
+  std::array<double, 3> column_slack{}; // how far the side test can change along a column
+  for (int k = 0; k < 3; ++k) column_slack[k] = r + half * std::abs(side[k][w]);
 
   Vec3 x;
   std::array<int, 3> local{};
@@ -708,11 +740,14 @@ void DistanceBand::rasterize(std::size_t t, std::int32_t b) {
       std::int64_t k0 = range[0][w];
       std::int64_t k1 = range[1][w];
       if (!g.degenerate) {
-        // |n[w]| >= 1/sqrt(3) for the dominant axis.
-        const double centre = g.a[w] - (n[u] * (x[u] - g.a[u]) + n[v] * (x[v] - g.a[v])) / n[w];
-        const double half = r / std::abs(n[w]);
-        k0 = std::max(k0, static_cast<std::int64_t>(std::ceil((centre - half - o[w]) / h)) + kIndexOffset);
-        k1 = std::min(k1, static_cast<std::int64_t>(std::floor((centre + half - o[w]) / h)) + kIndexOffset);
+        // The column meets the slab |n.(x - a)| <= r around its point on the plane; skip it when
+        // that point lies too far outside an edge for any node of the slab to come within r.
+        x[w] = g.a[w] - (n[u] * (x[u] - g.a[u]) + n[v] * (x[v] - g.a[v])) / n[w];
+        if ((x - q[0]).dot(side[0]) > column_slack[0] || (x - q[1]).dot(side[1]) > column_slack[1] ||
+            (x - q[2]).dot(side[2]) > column_slack[2])
+          continue;
+        k0 = std::max(k0, ceil_int((x[w] - half - o[w]) * inv_h) + kIndexOffset);
+        k1 = std::min(k1, floor_int((x[w] + half - o[w]) * inv_h) + kIndexOffset);
       }
       for (std::int64_t kw = k0; kw <= k1; ++kw) {
         x[w] = coordinate(w, kw);
@@ -780,7 +815,7 @@ void DistanceBand::seed() {
   for (std::size_t b = 0; b < blocks_.size(); ++b) {
     bool any_front = false;
     for (int s = 0; s < 8; ++s) {
-      computed_nodes_ += static_cast<std::size_t>(std::popcount(blocks_[b].computed[s]));
+      computed_nodes_ += static_cast<std::size_t>(bit_count(blocks_[b].computed[s]));
       any_front = any_front || blocks_[b].front[s] != 0;
     }
     if (any_front) front_blocks_.push_back(static_cast<std::int32_t>(b));
@@ -843,8 +878,19 @@ void DistanceBand::spread_front(std::int32_t b, std::uint32_t layer, std::vector
 void DistanceBand::evaluate_block(std::int32_t b, const std::vector<std::uint32_t>& nodes, std::size_t begin,
                                   std::size_t end, Scratch& scratch, std::vector<Evaluation>& out) const {
   const std::size_t nf = patch_.triangles.size();
-  if (scratch.stamp.size() != nf + 1) scratch.stamp.assign(nf + 1, 0);
-  fill_apron(b, scratch.apron);
+  if (scratch.stamp.size() != nf) scratch.stamp.assign(nf, 0);
+  {
+    // Only the rows around the block's candidates are read.
+    int y0 = 7, y1 = 0, z0 = 7, z1 = 0;
+    for (std::size_t i = begin; i < end; ++i) {
+      const int l = static_cast<int>(nodes[i] % kBlockNodes);
+      y0 = std::min(y0, (l >> 3) & 7);
+      y1 = std::max(y1, (l >> 3) & 7);
+      z0 = std::min(z0, l >> 6);
+      z1 = std::max(z1, l >> 6);
+    }
+    fill_apron(b, y0, y1 + 2, z0, z1 + 2, scratch.apron);
+  }
   static constexpr std::array<int, 26> kOffsets = [] {
     std::array<int, 26> offsets{};
     int k = 0;
@@ -854,7 +900,6 @@ void DistanceBand::evaluate_block(std::int32_t b, const std::vector<std::uint32_
           if (dx != 0 || dy != 0 || dz != 0) offsets[k++] = dx + 10 * dy + 100 * dz;
     return offsets;
   }();
-  const auto dummy = static_cast<std::int32_t>(nf); // stands for "no triangle"; always stamped
 
   for (std::size_t i = begin; i < end; ++i) {
     const int l = static_cast<int>(nodes[i] % kBlockNodes);
@@ -864,7 +909,6 @@ void DistanceBand::evaluate_block(std::int32_t b, const std::vector<std::uint32_
       scratch.current = 1;
     }
     const std::uint32_t current = scratch.current;
-    scratch.stamp[dummy] = current;
     const Vec3 x = node_position(b, l);
     Nearest best;
     best.squared = std::numeric_limits<double>::infinity();
@@ -872,19 +916,32 @@ void DistanceBand::evaluate_block(std::int32_t b, const std::vector<std::uint32_
     auto consider = [&](std::int32_t t) {
       if (scratch.stamp[t] == current) return;
       scratch.stamp[t] = current;
+      const TriangleGeometry& g = patch_.triangles[t];
+      const double plane_distance = g.normal.dot(x) - g.plane; // a lower bound
+      if (plane_distance * plane_distance > best.squared) return;
 #ifdef ST_OFFSET_DEBUG
       ++g_evaluations;
 #endif
-      const Nearest n = nearest_on_triangle(patch_.triangles[t], x);
+      const Nearest n = nearest_on_triangle(g, x);
       if (n.squared < best.squared || (n.squared == best.squared && t < best_t)) {
         best = n;
         best_t = t;
       }
     };
-    for (const int offset : kOffsets) {
-      const std::int32_t t = scratch.apron[centre + offset] >> 3; // -1 where not computed
-      consider(t < 0 ? dummy : t);
+    // The neighbours' closest triangles, without runs of repeats (neighbours along x mostly
+    // agree) and without the -1 of nodes not computed yet; the stamps remove the other repeats.
+    std::array<std::int32_t, 26> candidates;
+    int count = 0;
+    std::int32_t previous = -1;
+    const std::int32_t* around = scratch.apron.data() + centre;
+#pragma GCC unroll 26
+    for (int k = 0; k < 26; ++k) {
+      const std::int32_t t = around[kOffsets[k]] >> 3; // -1 where not computed
+      candidates[count] = t;
+      count += static_cast<int>((t != previous) & (t >= 0));
+      previous = t;
     }
+    for (int k = 0; k < count; ++k) consider(candidates[k]);
     Evaluation& e = out[i];
     if (best_t < 0) {
       e = {std::numeric_limits<float>::infinity(), -1, false};
@@ -909,12 +966,14 @@ void DistanceBand::evaluate_block(std::int32_t b, const std::vector<std::uint32_
 }
 
 /// Copies the closest-feature codes of block b and of the one-node layer around it (from its 26
-/// neighbours, -1 where absent) into a 10x10x10 array.
-void DistanceBand::fill_apron(std::int32_t b, std::array<std::int32_t, 1000>& apron) const {
+/// neighbours, -1 where absent) into a 10x10x10 array (x + 1, y + 1, z + 1), rows y0..y1 of the
+/// planes z0..z1 only (apron coordinates).
+void DistanceBand::fill_apron(std::int32_t b, int y0, int y1, int z0, int z1,
+                              std::array<std::int32_t, 1000>& apron) const {
   const Block& blk = blocks_[b];
-  for (int z = 0; z < 10; ++z) {
+  for (int z = z0; z <= z1; ++z) {
     const int oz = z == 0 ? -1 : z == 9 ? 1 : 0;
-    for (int y = 0; y < 10; ++y) {
+    for (int y = y0; y <= y1; ++y) {
       const int oy = y == 0 ? -1 : y == 9 ? 1 : 0;
       const int row = 8 * ((y + 7) & 7) + 64 * ((z + 7) & 7); // local index of x = 0
       std::int32_t* out = &apron[10 * y + 100 * z];
@@ -1065,7 +1124,7 @@ Contour DistanceBand::contour() const {
       for (int d = 0; d < 7; ++d)
         for (int s = 0; s < 8; ++s) {
           out.rank[d][s] = count;
-          count += static_cast<Index>(std::popcount(out.crossed_edges[d][s]));
+          count += static_cast<Index>(bit_count(out.crossed_edges[d][s]));
         }
       out.count = count;
     }
@@ -1081,7 +1140,7 @@ Contour DistanceBand::contour() const {
   TriangleMesh& mesh = result.mesh;
   mesh.positions.resize(total);
   std::vector<std::uint8_t> on_border(p_.front_only ? total : 0, 0);
-  std::vector<std::uint8_t> in_front(p_.front_only ? total : 0, 0);
+  std::vector<std::int32_t> source(p_.front_only ? total : 0, -1);
   auto cube_contoured = [&](const Block& blk, int x, int y, int z) { // x, y, z in -1..8, local to blk
     const std::int32_t n = blk.neighbours[neighbour_slot(x >> 3, y >> 3, z >> 3)];
     if (n < 0) return false;
@@ -1113,7 +1172,7 @@ Contour DistanceBand::contour() const {
 #endif
             const std::uint64_t all = bc[b].crossed_edges[d - 1][s];
             const Index index = bc[b].first + bc[b].rank[d - 1][s] +
-                                static_cast<Index>(std::popcount(all & ((std::uint64_t{1} << bit) - 1)));
+                                static_cast<Index>(bit_count(all & ((std::uint64_t{1} << bit) - 1)));
             mesh.positions[index] = node_position(8 * blk.coord[0] + x, 8 * blk.coord[1] + y, 8 * blk.coord[2] + z) +
                                     (t * h) * Vec3(dx, dy, dz);
             if (p_.front_only) {
@@ -1123,10 +1182,7 @@ Contour DistanceBand::contour() const {
               for (int e = 0; e < 8 && interior; ++e)
                 if ((e & d) == 0) interior = cube_contoured(blk, x - (e & 1), y - ((e >> 1) & 1), z - (e >> 2));
               on_border[index] = interior ? 0 : 1;
-              // In front of the patch: judged from the closest triangle of the edge's first node.
-              const std::int32_t tri = blocks_[b].closest[bit + 64 * s] >> 3;
-              const Nearest near = nearest_on_triangle(patch_.triangles[tri], mesh.positions[index]);
-              in_front[index] = near.offset.dot(patch_.pseudo_normal(tri, near.feature)) > 0.0 ? 1 : 0;
+              source[index] = blocks_[b].closest[bit + 64 * s];
             }
           }
     }
@@ -1140,7 +1196,7 @@ Contour DistanceBand::contour() const {
     const int l = (x & 7) | ((y & 7) << 3) | ((z & 7) << 6);
     const std::uint64_t m = bc[n].crossed_edges[d - 1][l >> 6];
     return bc[n].first + bc[n].rank[d - 1][l >> 6] +
-           static_cast<Index>(std::popcount(m & ((std::uint64_t{1} << (l & 63)) - 1)));
+           static_cast<Index>(bit_count(m & ((std::uint64_t{1} << (l & 63)) - 1)));
   };
   parallel_for(nb, kChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
     std::vector<Triangle>& tris = chunks[begin / kChunk];
@@ -1155,9 +1211,14 @@ Contour DistanceBand::contour() const {
           int below_mask = 0;
           for (int c = 0; c < 8; ++c)
             below_mask |= (node_value(blk, lx + (c & 1), ly + ((c >> 1) & 1), lz + (c >> 2)) < iso ? 1 : 0) << c;
+          std::array<Index, 64> cache; // [lower corner * 8 + direction]
+          cache.fill(kInvalidIndex);
           auto vertex = [&](int ca, int cb) {
             const int lower = ca & cb; // Kuhn edges join nested corners
-            return vertex_of(blk, lx + (lower & 1), ly + ((lower >> 1) & 1), lz + (lower >> 2), ca ^ cb);
+            Index& v = cache[8 * lower + (ca ^ cb)];
+            if (v == kInvalidIndex)
+              v = vertex_of(blk, lx + (lower & 1), ly + ((lower >> 1) & 1), lz + (lower >> 2), ca ^ cb);
+            return v;
           };
           for (const std::array<int, 4>& tet : kCubeTets) {
             int mask = 0;
@@ -1200,14 +1261,14 @@ Contour DistanceBand::contour() const {
     mesh.positions[kept] = mesh.positions[v];
     if (p_.front_only) {
       if (on_border[v]) result.border_candidates.push_back(kept);
-      in_front[kept] = in_front[v];
+      source[kept] = source[v];
     }
     ++kept;
   }
   mesh.positions.resize(kept);
   if (p_.front_only) {
-    in_front.resize(kept);
-    result.in_front = std::move(in_front);
+    source.resize(kept);
+    result.source = std::move(source);
   }
   if (kept != total)
     for (Triangle& t : mesh.triangles)
@@ -1219,8 +1280,10 @@ Contour DistanceBand::contour() const {
 
 /// front_only: removes the connected components without a vertex in front of the patch. Where the
 /// band stops below the rim, cubes completed from several sides can hold small pieces of the rim
-/// that are cut off from it; the front sheet and everything joined to it stay.
-void remove_back_islands(Contour& contour) {
+/// that are cut off from it; the front sheet and everything joined to it stay. "In front" is judged
+/// with the closest triangle of the node the vertex's grid edge starts from, once a component has
+/// one such vertex no other is tested.
+void remove_back_islands(Contour& contour, const Patch& patch) {
   TriangleMesh& mesh = contour.mesh;
   const std::size_t nv = mesh.positions.size();
   std::vector<Index> parent(nv);
@@ -1237,8 +1300,13 @@ void remove_back_islands(Contour& contour) {
     parent[c] = a;
   }
   std::vector<std::uint8_t> keep(nv, 0);
-  for (Index v = 0; v < nv; ++v)
-    if (contour.in_front[v]) keep[root(v)] = 1;
+  for (Index v = 0; v < nv; ++v) {
+    const Index r = root(v);
+    if (keep[r]) continue;
+    const std::int32_t t = contour.source[v] >> 3;
+    const Nearest near = nearest_on_triangle(patch.triangles[t], mesh.positions[v]);
+    if (near.offset.dot(patch.pseudo_normal(t, near.feature)) > 0.0) keep[r] = 1;
+  }
   bool all_kept = true;
   for (Index v = 0; v < nv && all_kept; ++v) all_kept = keep[root(v)] != 0;
   if (all_kept) return;
@@ -1448,7 +1516,7 @@ OffsetResult offset_surface(const TriangleMesh& surface, const OffsetOptions& op
   Contour contour = band.contour();
   lap("contour");
   if (options.front_only) {
-    remove_back_islands(contour);
+    remove_back_islands(contour, patch);
     split_pinched_vertices(contour.mesh, contour.border_candidates);
   }
   lap("split");

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <unordered_set>
 
 namespace st {
 
@@ -73,7 +74,7 @@ ClosestPoint local_closest_point(const MeshTopology& topo, const Vec3& p, Index 
   ClosestPoint best;
   best.distance = std::numeric_limits<double>::infinity();
   std::vector<Index> stack{start};
-  std::vector<Index> seen{start};
+  std::unordered_set<Index> seen{start};
   while (!stack.empty()) {
     const Index f = stack.back();
     stack.pop_back();
@@ -86,9 +87,7 @@ ClosestPoint local_closest_point(const MeshTopology& topo, const Vec3& p, Index 
       const Index o = topo.opposite(3 * f + k);
       if (o == kInvalidIndex) continue;
       const Index g = o / 3;
-      if (std::find(seen.begin(), seen.end(), g) != seen.end()) continue;
-      seen.push_back(g);
-      stack.push_back(g);
+      if (seen.insert(g).second) stack.push_back(g);
     }
   }
   return best;
@@ -96,7 +95,7 @@ ClosestPoint local_closest_point(const MeshTopology& topo, const Vec3& p, Index 
 
 class CurveTracer {
 public:
-  CurveTracer(const MeshTopology& topo, const AabbTree& tree, std::string name)
+  CurveTracer(const MeshTopology& topo, const AabbTree* tree, std::string name)
       : topo_(topo), mesh_(topo.mesh()), tree_(tree), name_(std::move(name)) {}
 
   // Walks from (a in fa) to (b in fb); appends crossings and their points. Returns false when the
@@ -176,16 +175,18 @@ public:
     if (depth >= 10 || (b - a).norm() < 1e-9)
       throw GeometryError(name_ + ": cannot follow the surface between " + where(a) + " and " + where(b) +
                           ": the surface has a gap or a sharp fold there; move the control points");
-    const auto mid = tree_.closest_point(0.5 * (a + b));
-    trace(a, fa, mid->point, mid->face, depth + 1, out, points);
-    points.push_back(mid->point);
-    trace(mid->point, mid->face, b, fb, depth + 1, out, points);
+    const Vec3 half = 0.5 * (a + b);
+    const ClosestPoint mid = tree_ ? *tree_->closest_point(half)
+                                   : local_closest_point(topo_, half, fa, (b - a).norm() + 1e-9);
+    trace(a, fa, mid.point, mid.face, depth + 1, out, points);
+    points.push_back(mid.point);
+    trace(mid.point, mid.face, b, fb, depth + 1, out, points);
   }
 
 private:
   const MeshTopology& topo_;
   const TriangleMesh& mesh_;
-  const AabbTree& tree_;
+  const AabbTree* tree_; // may be null: then midpoints are found by a local search
   std::string name_;
 
   // Area-weighted normal of the faces around f's corners: robust on sliver triangles.
@@ -244,6 +245,69 @@ void check_self_crossing(const TriangleMesh& mesh, const SurfaceCurve& curve,
     }
     lo = hi;
   }
+}
+
+// Joins the curve's samples by walks over the surface: fills crossings, polyline and length, and
+// checks that the curve does not cross itself.
+void join_samples(const MeshTopology& topology, const AabbTree* tree, const CurveOptions& options,
+                  SurfaceCurve& curve) {
+  const TriangleMesh& mesh = topology.mesh();
+  // 4. Walk the surface between consecutive samples. The walk gives a sequence of events: points
+  //    inside faces (samples, subdivision points) and edge crossings.
+  struct Event {
+    Vec3 point;
+    Index face;                       // the face the curve is in after this event
+    Index halfedge = kInvalidIndex;   // crossings only
+    double t = 0.0;
+  };
+  const CurveTracer tracer(topology, tree, options.name);
+  std::vector<Event> events;
+  const std::size_t m = curve.samples.size();
+  for (std::size_t i = 0; i < m; ++i) {
+    const std::size_t j = (i + 1) % m;
+    events.push_back({curve.samples[i], curve.sample_faces[i]});
+    std::vector<EdgeCrossing> c;
+    std::vector<Vec3> p;
+    tracer.trace(curve.samples[i], curve.sample_faces[i], curve.samples[j], curve.sample_faces[j], 0, c, p);
+    for (std::size_t k = 0, ci = 0; k < p.size(); ++k) {
+      // Subdivision points are not crossings; they lie in the face the last crossing entered.
+      const bool crossing =
+          ci < c.size() && (p[k] - ((1.0 - c[ci].t) * mesh.positions[topology.from_vertex(c[ci].halfedge)] +
+                                    c[ci].t * mesh.positions[topology.to_vertex(c[ci].halfedge)]))
+                                   .squaredNorm() == 0.0;
+      if (crossing) {
+        events.push_back({p[k], topology.opposite(c[ci].halfedge) / 3, c[ci].halfedge, c[ci].t});
+        ++ci;
+      } else {
+        events.push_back({p[k], events.back().face});
+      }
+    }
+  }
+  // Samples projected near an edge may step over it and straight back: drop such excursions
+  // (a crossing followed, after points in the other face only, by the crossing back over the same
+  // edge). Parity and the curve's path are unchanged, and no spurious self-crossing is left.
+  std::vector<Event> kept;
+  kept.reserve(events.size());
+  std::vector<std::size_t> crossing_at; // indices into `kept` of its crossings
+  for (const Event& e : events) {
+    if (e.halfedge != kInvalidIndex && !crossing_at.empty() &&
+        topology.opposite(kept[crossing_at.back()].halfedge) == e.halfedge) {
+      kept.resize(crossing_at.back());
+      crossing_at.pop_back();
+      continue;
+    }
+    if (e.halfedge != kInvalidIndex) crossing_at.push_back(kept.size());
+    kept.push_back(e);
+  }
+  std::vector<Index> point_faces;
+  for (const Event& e : kept) {
+    curve.polyline.push_back(e.point);
+    point_faces.push_back(e.face);
+    if (e.halfedge != kInvalidIndex) curve.crossings.push_back({e.halfedge, e.t});
+  }
+  for (std::size_t i = 0; i < curve.polyline.size(); ++i)
+    curve.length += (curve.polyline[(i + 1) % curve.polyline.size()] - curve.polyline[i]).norm();
+  if (options.check_self_crossing) check_self_crossing(mesh, curve, point_faces, options);
 }
 
 } // namespace
@@ -361,14 +425,19 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
     polygon_length += (curve.control_points[(i + 1) % n] - curve.control_points[i]).norm();
   double spacing = options.sample_spacing > 0.0 ? options.sample_spacing : tol::kCurveSampleSpacing * mean_edge;
   spacing = std::max(spacing, polygon_length / tol::kMaxCurveSamples);
-  const std::vector<Vec3> spline = closed_catmull_rom(curve.control_points, spacing);
+  if (!options.smooth) {
+    curve.samples = curve.control_points;
+    curve.sample_faces = curve.control_faces;
+  }
+  const std::vector<Vec3> spline =
+      options.smooth ? closed_catmull_rom(curve.control_points, spacing) : std::vector<Vec3>{};
   // Each sample is brought onto the surface near the previous one (a local closest-point search
   // over the faces connected to it), so the curve cannot jump across a thin process or a narrow
   // gap to a surface that is merely close in space.
   Index previous_face = curve.control_faces[0];
   Vec3 previous = curve.control_points[0];
   for (const Vec3& s : spline) {
-    const double radius = 2.0 * (s - previous).norm() + 2.0 * mean_edge;
+    const double radius = (s - previous).norm() + 2.0 * mean_edge;
     const auto c = local_closest_point(topology, s, previous_face, radius);
     previous_face = c.face;
     previous = c.point;
@@ -382,62 +451,26 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
   }
   if (curve.samples.size() < 3) throw InvalidInput(options.name + ": the control points enclose no area");
 
-  // 4. Walk the surface between consecutive samples. The walk gives a sequence of events: points
-  //    inside faces (samples, subdivision points) and edge crossings.
-  struct Event {
-    Vec3 point;
-    Index face;                       // the face the curve is in after this event
-    Index halfedge = kInvalidIndex;   // crossings only
-    double t = 0.0;
-  };
-  const CurveTracer tracer(topology, tree, options.name);
-  std::vector<Event> events;
-  const std::size_t m = curve.samples.size();
-  for (std::size_t i = 0; i < m; ++i) {
-    const std::size_t j = (i + 1) % m;
-    events.push_back({curve.samples[i], curve.sample_faces[i]});
-    std::vector<EdgeCrossing> c;
-    std::vector<Vec3> p;
-    tracer.trace(curve.samples[i], curve.sample_faces[i], curve.samples[j], curve.sample_faces[j], 0, c, p);
-    for (std::size_t k = 0, ci = 0; k < p.size(); ++k) {
-      // Subdivision points are not crossings; they lie in the face the last crossing entered.
-      const bool crossing =
-          ci < c.size() && (p[k] - ((1.0 - c[ci].t) * mesh.positions[topology.from_vertex(c[ci].halfedge)] +
-                                    c[ci].t * mesh.positions[topology.to_vertex(c[ci].halfedge)]))
-                                   .squaredNorm() == 0.0;
-      if (crossing) {
-        events.push_back({p[k], topology.opposite(c[ci].halfedge) / 3, c[ci].halfedge, c[ci].t});
-        ++ci;
-      } else {
-        events.push_back({p[k], events.back().face});
-      }
-    }
-  }
-  // Samples projected near an edge may step over it and straight back: drop such excursions
-  // (a crossing followed, after points in the other face only, by the crossing back over the same
-  // edge). Parity and the curve's path are unchanged, and no spurious self-crossing is left.
-  std::vector<Event> kept;
-  kept.reserve(events.size());
-  std::vector<std::size_t> crossing_at; // indices into `kept` of its crossings
-  for (const Event& e : events) {
-    if (e.halfedge != kInvalidIndex && !crossing_at.empty() &&
-        topology.opposite(kept[crossing_at.back()].halfedge) == e.halfedge) {
-      kept.resize(crossing_at.back());
-      crossing_at.pop_back();
-      continue;
-    }
-    if (e.halfedge != kInvalidIndex) crossing_at.push_back(kept.size());
-    kept.push_back(e);
-  }
-  std::vector<Index> point_faces;
-  for (const Event& e : kept) {
-    curve.polyline.push_back(e.point);
-    point_faces.push_back(e.face);
-    if (e.halfedge != kInvalidIndex) curve.crossings.push_back({e.halfedge, e.t});
-  }
-  for (std::size_t i = 0; i < curve.polyline.size(); ++i)
-    curve.length += (curve.polyline[(i + 1) % curve.polyline.size()] - curve.polyline[i]).norm();
-  if (options.check_self_crossing) check_self_crossing(mesh, curve, point_faces, options);
+  join_samples(topology, &tree, options, curve);
+  return curve;
+}
+
+} // namespace st
+
+namespace st {
+
+SurfaceCurve join_surface_points(const MeshTopology& topology, const std::vector<Vec3>& points,
+                                 const std::vector<Index>& faces, const CurveOptions& options) {
+  if (points.size() < 3 || points.size() != faces.size())
+    throw InvalidInput(options.name + ": needs at least 3 points, each with its face");
+  for (Index f : faces)
+    if (f >= topology.mesh().face_count()) throw InvalidInput(options.name + ": face index out of range");
+  SurfaceCurve curve;
+  curve.control_points = points;
+  curve.control_faces = faces;
+  curve.samples = points;
+  curve.sample_faces = faces;
+  join_samples(topology, nullptr, options, curve);
   return curve;
 }
 

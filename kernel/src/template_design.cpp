@@ -140,13 +140,14 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   for (std::size_t i = 0; i < m; ++i)
     rim_length += (inner.region.positions[inner.rim[(i + 1) % m]] - inner.region.positions[inner.rim[i]]).norm();
   int step = options.sampling_step;
-  if (step == 0) step = std::max(1, static_cast<int>(std::lround(T / (rim_length / static_cast<double>(m)))));
+  if (step == 0) step = std::max(1, static_cast<int>(std::lround(0.5 * T / (rim_length / static_cast<double>(m)))));
   step = std::min<int>(step, static_cast<int>(m / 3));
   step = std::max(step, 1);
   result.sampling_step = step;
   const std::vector<Vec3> normals = vertex_normals(inner.region);
   const AabbTree offset_tree(offset.surface);
   std::vector<Vec3> outer_points;
+  std::vector<Index> outer_faces;
   const int half = std::max(1, step / 2);
   for (std::size_t i = 0; i < m; i += static_cast<std::size_t>(step)) {
     if (m - i < static_cast<std::size_t>(step) / 2 && i != 0) break; // avoid a crowded last sample
@@ -155,28 +156,33 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     if (n.squaredNorm() == 0.0) continue;
     n.normalize();
     const Vec3& p = inner.region.positions[inner.rim[i]];
-    const auto hit = offset_tree.first_hit(p, n, 0.0, 3.0 * T);
-    if (hit) {
+    if (const auto hit = offset_tree.first_hit(p, n, 0.0, 3.0 * T)) {
       outer_points.push_back(hit->point);
-    } else {
-      const auto c = offset_tree.closest_point(p + T * n);
-      if (c) outer_points.push_back(c->point);
+      outer_faces.push_back(hit->face);
+    } else if (const auto c = offset_tree.closest_point(p + T * n)) {
+      outer_points.push_back(c->point);
+      outer_faces.push_back(c->face);
     }
   }
+  // A point on the outer sheet above the middle of the inner surface tells the sides apart.
+  const Index centre = innermost_vertex(inner.region, inner.rim);
+  const Vec3& centre_point = inner.region.positions[centre];
+  const auto above = offset_tree.first_hit(centre_point, normals[centre], 0.0, 3.0 * T);
+  if (!above)
+    throw GeometryError("the offset surface is missing above the inner surface near " +
+                        std::to_string(centre_point.x()) + ", " + std::to_string(centre_point.y()) + ", " +
+                        std::to_string(centre_point.z()));
   result.times.outer_points = seconds_since(t0);
 
   // 4. Outer surface: the offset cut along those points, keeping the side above the inner surface.
   t0 = Clock::now();
   const MeshTopology offset_topology(offset.surface);
-  const Index centre = innermost_vertex(inner.region, inner.rim);
-  const Vec3 above = inner.region.positions[centre] + T * normals[centre];
   CurveOptions outer_curve_options;
-  outer_curve_options.max_snap_distance = 2.0 * T;
-  outer_curve_options.also_index = above;
   outer_curve_options.name = "outer cut";
-  const SurfaceCurve outer_curve = trace_surface_curve(offset_topology, outer_points, outer_curve_options);
+  const SurfaceCurve outer_curve = join_surface_points(offset_topology, outer_points, outer_faces, outer_curve_options);
   CutOptions outer_cut_options;
-  outer_cut_options.inside = above;
+  outer_cut_options.inside = above->point;
+  outer_cut_options.inside_face = above->face;
   const CutResult outer = cut_region(offset_topology, outer_curve, outer_cut_options);
   result.outer_curve = outer_curve.polyline;
   result.outer_rim_points = outer.rim.size();

@@ -736,8 +736,8 @@ TEST(MeshIoWrite, RefusesNonFiniteAndBadIndices) {
 // ---- the example meshes -------------------------------------------------------------------------
 
 TEST(MeshIoExamples, Tibia) {
-  const std::string path = std::string(ST_EXAMPLES_DIR) + "/meshes/tibia.stl";
-  if (!fs::exists(path)) GTEST_SKIP() << path << " is not there";
+  const std::string path = std::string(ST_EXAMPLES_DIR) + "/meshes/tibia.stl.gz";
+  ASSERT_TRUE(fs::exists(path)) << path;
   st::ReadReport report;
   const st::TriangleMesh m = st::read_mesh(path, &report);
   EXPECT_EQ(report.input_triangles, 60362u);
@@ -748,8 +748,8 @@ TEST(MeshIoExamples, Tibia) {
 }
 
 TEST(MeshIoExamples, MaxillaDentitionCrop) {
-  const std::string path = std::string(ST_EXAMPLES_DIR) + "/meshes/maxilla_dentition_ct_crop.stl";
-  if (!fs::exists(path)) GTEST_SKIP() << path << " is not there";
+  const std::string path = std::string(ST_EXAMPLES_DIR) + "/meshes/maxilla_dentition_ct_crop.stl.gz";
+  ASSERT_TRUE(fs::exists(path)) << path;
   st::ReadReport report;
   const st::TriangleMesh m = st::read_mesh(path, &report);
   EXPECT_EQ(report.input_triangles, 119825u);

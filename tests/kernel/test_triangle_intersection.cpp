@@ -145,6 +145,14 @@ int sgn(std::int64_t x) { return (x > 0) - (x < 0); }
 // affinely independent ones, each case an exact integer test.
 bool origin_in_hull(const std::vector<I3>& d) {
   const std::size_t n = d.size();
+  for (int k = 0; k < 3; ++k) {  // all on one side of a coordinate plane: the box excludes the origin
+    bool all_positive = true, all_negative = true;
+    for (const I3& p : d) {
+      all_positive = all_positive && p[k] > 0;
+      all_negative = all_negative && p[k] < 0;
+    }
+    if (all_positive || all_negative) return false;
+  }
   for (std::size_t i = 0; i < n; ++i)
     if (is_zero(d[i])) return true;
   for (std::size_t i = 0; i < n; ++i)

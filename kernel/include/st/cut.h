@@ -23,6 +23,9 @@ struct CutOptions {
   /// A point on or near the surface inside the region to keep; without it the region with the
   /// smaller area is kept.
   std::optional<Vec3> inside;
+  /// The face the inside point lies on, when the caller knows it (else it is searched among the
+  /// curve's local faces).
+  Index inside_face = kInvalidIndex;
   /// Refuse a region that contains an open border or non-manifold edge (a hole in the bone mesh).
   bool require_closed_region = true;
 };

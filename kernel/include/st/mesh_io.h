@@ -1,30 +1,32 @@
 #pragma once
-// Reading triangle meshes from STL (binary and ASCII), PLY (ascii, binary little and big endian) and
-// OBJ files, and writing binary STL.
+// Reading triangle meshes from STL (binary and ASCII), PLY (ascii, binary little and big
+// endian) and OBJ files, and writing binary STL.
 //
-// Every reader returns a TriangleMesh (positions #V by 3 in the file's units, which the project takes
-// as mm; triangles #F by 3). Polygons are fan-triangulated (v0, vi, vi+1). A triangle with a repeated
-// vertex index is dropped and counted in ReadReport::degenerate_dropped; vertices that no triangle
-// uses stay in the mesh.
+// Every reader returns a TriangleMesh (positions #V by 3 in the file's units, which the project
+// takes as mm; triangles #F by 3). Polygons are fan-triangulated (v0, vi, vi+1). A triangle with a
+// repeated vertex index is dropped and counted in ReadReport::degenerate_dropped; vertices that no
+// triangle uses stay in the mesh.
 //
 // STL stores every triangle with its own three corners; the reader welds corners whose float32
 // coordinates are bit-for-bit equal (with -0.0 taken as 0.0) into one vertex, numbered in order of
-// first appearance. ASCII STL values are rounded to float32 first, as the format specifies. PLY and
-// OBJ vertices are taken as they are (no welding).
+// first appearance. ASCII STL values are rounded to float32 first, as the format specifies. PLY
+// and OBJ vertices are taken as they are (no welding).
 //
-// A binary STL is recognised by its size alone (exactly 84 + 50 * n bytes, n from the header), never
-// by the word "solid", which many binary files start with. A file that starts with "solid" and does
-// not have that size is read as ASCII STL, unless it holds binary bytes, in which case it is reported
-// as a truncated or corrupt binary STL.
+// A binary STL is recognised by its size alone (exactly 84 + 50 * n bytes, n from the header),
+// never by the word "solid", which many binary files start with. A file that starts with "solid"
+// and does not have that size is read as ASCII STL, unless it holds binary bytes, in which case it
+// is reported as a truncated or corrupt binary STL. Text files may start with a UTF-8 byte order
+// mark; an ASCII STL may be padded with NUL bytes at the end.
 //
-// Errors: every reader throws InvalidInput (see errors.h) for a missing or unreadable file (the path
-// and the system's reason), an empty file or one with no triangles ("contains no triangles"), a
-// non-finite coordinate (naming the vertex, and for STL the triangle and corner), a face index out of
-// range (naming the face or line), a file whose triangles are all degenerate, more than 2^32 - 2
-// vertices or triangles, and any syntax error. Messages start with the file's name and say where:
-// a line number (from 1) for text formats, a byte offset for binary ones, and the number of the
-// vertex, face or triangle (from 0, in file order). The readers never trust a count in a header:
-// each is checked against the bytes left before anything is reserved.
+// Errors: every reader throws InvalidInput (see errors.h) for a missing or unreadable file (the
+// path and the system's reason), an empty file or one with no triangles ("contains no
+// triangles"), a non-finite coordinate (naming the vertex, and for STL the triangle and corner), a
+// face index out of range (naming the face or line), a file whose triangles are all degenerate,
+// more than 2^32 - 2 vertices or triangles, and any syntax error. Messages start with the file's
+// name and say where: a line number (from 1) for text formats, a byte offset for binary ones, and
+// the number of the vertex, face or triangle (from 0, in file order; OBJ vertices from 1, as OBJ
+// counts them). The readers never trust a count in a header: each is checked against the bytes
+// left before anything is reserved.
 
 #include "st/mesh.h"
 
@@ -37,7 +39,7 @@ enum class MeshFormat { Auto, Stl, Ply, Obj };
 
 /// What the reader found in the file, beyond the mesh itself.
 struct ReadReport {
-  /// Triangles in the file, after fan triangulation of polygons, before degenerate ones are dropped.
+  /// Triangles in the file (after fan triangulation of polygons), degenerate ones included.
   std::size_t input_triangles = 0;
   /// STL only: corners merged into an existing vertex because their float32 coordinates are equal
   /// (3 * input_triangles minus the number of vertices).

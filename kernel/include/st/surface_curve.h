@@ -33,6 +33,10 @@ struct CurveOptions {
   double sample_spacing = 0.0;
   /// Optional extra point (e.g. the "inside" point) whose neighbourhood must be indexed too.
   std::optional<Vec3> also_index;
+  /// true: a spline through the control points, sampled densely and brought onto the surface.
+  /// false: the control points themselves joined by straight walks over the surface (for dense
+  /// points that already lie on the surface, such as the projected border samples of the outer cut).
+  bool smooth = true;
   /// Refuse a curve that crosses itself (GeometryError).
   bool check_self_crossing = true;
   /// What the curve is, for messages ("boundary", "outer cut").
@@ -65,6 +69,12 @@ struct SurfaceCurve {
 /// when the surface cannot be followed between two samples (a gap or fold).
 SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector<Vec3>& control_points,
                                  const CurveOptions& options = {});
+
+/// The closed curve joining points that already lie on the surface, each on the given face, by
+/// straight walks over the surface: no snapping, no spline, no index (for the outer cut, whose points
+/// are ray hits). local_faces stays empty. Throws as trace_surface_curve for the walks.
+SurfaceCurve join_surface_points(const MeshTopology& topology, const std::vector<Vec3>& points,
+                                 const std::vector<Index>& faces, const CurveOptions& options = {});
 
 /// Closed centripetal Catmull-Rom spline through `points`, sampled so that consecutive samples are
 /// about `spacing` apart (at least one sample per control point, starting with points[0]).

@@ -11,8 +11,9 @@ namespace st::detail {
 bool is_gzip(const char* data, std::size_t size);
 
 /// Inflates a whole gzip stream (possibly several members). Throws InvalidInput naming `name` when
-/// the data is corrupt or truncated, or would inflate beyond `max_size` bytes.
-std::vector<char> gunzip(const char* data, std::size_t size, const std::string& name,
-                         std::size_t max_size = std::size_t{8} << 30);
+/// the data is corrupt or truncated, or would inflate beyond `max_size` bytes. The default limit is
+/// deflate's largest possible ratio (1032:1) times the input plus 1 MiB, capped at 4 GiB, so a small
+/// hostile file cannot make the reader allocate gigabytes.
+std::vector<char> gunzip(const char* data, std::size_t size, const std::string& name, std::size_t max_size = 0);
 
 } // namespace st::detail
