@@ -192,6 +192,7 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
     if (inserted) {
       result.region.positions.push_back(mesh.positions[v]);
       result.source_vertex.push_back(v);
+      result.source.push_back({{v, v}, 0.0});
     }
     return it->second;
   };
@@ -205,6 +206,7 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
       e.new_vertex = static_cast<Index>(result.region.positions.size());
       result.region.positions.push_back((1.0 - t) * mesh.positions[lo] + t * mesh.positions[hi]);
       result.source_vertex.push_back(kInvalidIndex);
+      result.source.push_back({{lo, hi}, t});
     }
     return e.new_vertex;
   };

@@ -17,11 +17,6 @@
 #include <utility>
 #include <vector>
 
-#ifdef ST_OFFSET_DEBUG
-#include <chrono>
-#include <cstdlib>
-#include <ctime>
-#endif
 
 namespace st {
 namespace {
@@ -264,6 +259,7 @@ struct Patch {
   std::vector<Index> edge_face_offsets, edge_faces;     // triangles along each edge (rows)
   std::vector<std::uint8_t> border_edge;   // 1 for edges used by one triangle
   std::vector<std::uint8_t> border_vertex; // 1 for vertices of such edges
+  std::vector<std::uint8_t> border_sides;  // per triangle, bit k: edge k is a border edge
   double area = 0.0;
   double border_length = 0.0;       // total length of edges used by one triangle
 
@@ -340,10 +336,12 @@ Patch build_patch(const TriangleMesh& mesh, bool with_pseudo_normals) {
       patch.border_length += edge_length[e];
       patch.border_edge[e] = 1;
     }
+  patch.border_sides.assign(nf, 0);
   for (std::size_t c = 0; c < 3 * nf; ++c)
     if (patch.border_edge[patch.edge_of[c]]) {
       patch.border_vertex[mesh.triangles[c / 3][c % 3]] = 1;
       patch.border_vertex[mesh.triangles[c / 3][(c + 1) % 3]] = 1;
+      patch.border_sides[c / 3] |= static_cast<std::uint8_t>(1u << (c % 3));
     }
 
   // Compressed rows: vertex -> triangles, edge -> triangles.
@@ -441,9 +439,6 @@ constexpr std::array<TetCase, 16> kTetCases = make_tet_cases();
 // ---- threads ----------------------------------------------------------------------------------------
 
 unsigned thread_count() {
-#ifdef ST_OFFSET_DEBUG
-  if (const char* s = std::getenv("ST_OFFSET_THREADS")) return static_cast<unsigned>(std::max(1, std::atoi(s)));
-#endif
   return std::clamp(std::thread::hardware_concurrency(), 1u, 8u);
 }
 
@@ -475,9 +470,6 @@ void parallel_for(std::size_t n, std::size_t grain, const Work& work) {
   for (std::thread& t : pool) t.join();
 }
 
-#ifdef ST_OFFSET_DEBUG
-std::atomic<long> g_evaluations{0};
-#endif
 
 // ---- the distance band ----------------------------------------------------------------------------
 
@@ -488,8 +480,7 @@ struct BandParams {
   double limit = 1.0;       // nodes up to this distance spread
   double seed_radius = 1.0; // exact distances within this radius of each triangle
   double margin = 0.0;      // front_only: how far behind the patch a node whose closest point is on
-                            // the patch's border may lie and still spread
-  double back_margin = 0.0; // front_only: the same for the other nodes
+                            // the patch's border may lie and still spread (the others: not at all)
   bool front_only = true;
   double node_cap = 0.0;    // refuse to allocate more block nodes than this
   std::size_t expected_nodes = 0;
@@ -516,50 +507,6 @@ public:
   /// Marching tetrahedra on the complete cubes.
   [[nodiscard]] Contour contour() const;
   [[nodiscard]] std::size_t computed_nodes() const { return computed_nodes_; }
-#ifdef ST_OFFSET_DEBUG
-  void debug_check() const {
-    double worst = 0;
-    int bad = 0;
-    for (std::size_t b = 0; b < blocks_.size(); ++b)
-      for (int l = 0; l < 512; ++l) {
-        if (!((blocks_[b].computed[l >> 6] >> (l & 63)) & 1)) continue;
-        const Vec3 x = node_position(static_cast<std::int32_t>(b), l);
-        double best = 1e30;
-        int bt = -1;
-        for (std::size_t t = 0; t < patch_.triangles.size(); ++t) {
-          const double sq = nearest_on_triangle(patch_.triangles[t], x).squared;
-          if (sq < best) {
-            best = sq;
-            bt = static_cast<int>(t);
-          }
-        }
-        const double err = blocks_[b].dist[l] - std::sqrt(best);
-        if (std::sqrt(best) > p_.iso + 0.5) continue;
-        if (err > 1e-4 && bad++ < 10)
-          std::printf("node %g %g %g stored %g (tri %d f %d) true %g (tri %d)\n", x[0], x[1], x[2],
-                      blocks_[b].dist[l], blocks_[b].closest[l] >> 3, blocks_[b].closest[l] & 7,
-                      std::sqrt(best), bt);
-        worst = std::max(worst, std::abs(err));
-      }
-    std::printf("worst %g bad %d\n", worst, bad);
-  }
-  void debug_dump(const Vec3& lo, const Vec3& hi) const {
-    for (std::size_t b = 0; b < blocks_.size(); ++b)
-      for (int l = 0; l < 512; ++l) {
-        const Vec3 x = node_position(static_cast<std::int32_t>(b), l);
-        if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) continue;
-        const bool comp = (blocks_[b].computed[l >> 6] >> (l & 63)) & 1;
-        const bool spr = (blocks_[b].spreading[l >> 6] >> (l & 63)) & 1;
-        double dot = 0;
-        if (comp) {
-          const int t = blocks_[b].closest[l] >> 3;
-          const Nearest n = nearest_on_triangle(patch_.triangles[t], x);
-          dot = n.offset.dot(patch_.pseudo_normal(t, n.feature));
-        }
-        std::printf("%7.3f %7.3f %7.3f comp %d spr %d d %.3f dot %.3f\n", x[0], x[1], x[2], comp, spr, comp ? blocks_[b].dist[l] : -1.0f, dot);
-      }
-  }
-#endif
 
 private:
   static std::size_t expected_blocks(const BandParams& params) {
@@ -621,7 +568,8 @@ std::int32_t DistanceBand::find_or_create_block(std::int64_t bx, std::int64_t by
   const std::uint64_t key = block_key(bx, by, bz);
   const std::int32_t found = blocks_map_.find(key);
   if (found >= 0) return found;
-  if (static_cast<double>(blocks_.size() + 1) * kBlockNodes > p_.node_cap) {
+  if (static_cast<double>(blocks_.size() + 1) * kBlockNodes > p_.node_cap ||
+      blocks_.size() + 1 >= (std::size_t{1} << 23)) { // node references are 32-bit
     char msg[200];
     std::snprintf(msg, sizeof msg,
                   "offset: the distance band at h=%.4g mm grew past %.1f million cells; use a coarser "
@@ -664,7 +612,9 @@ std::int32_t DistanceBand::neighbour_or_create(std::int32_t b, int slot) {
 bool DistanceBand::spreads(const Nearest& nearest, std::int32_t t, double d) const {
   if (d > p_.limit) return false;
   if (!p_.front_only) return true;
-  const double margin = patch_.on_border(t, nearest.feature) ? p_.margin : p_.back_margin;
+  // Behind the patch (offset against the pseudo-normal of the closest feature) a node spreads only
+  // around the border, down to `margin` below it, to make the rounded rim.
+  const double margin = patch_.on_border(t, nearest.feature) ? p_.margin : 0.0;
   if (d <= margin) return true;
   return nearest.offset.dot(patch_.pseudo_normal(t, nearest.feature)) >= -margin;
 }
@@ -701,9 +651,12 @@ bool DistanceBand::block_may_hold_seeds(std::size_t t, const std::array<std::int
   return true;
 }
 
-/// Exact distances from triangle t to the nodes of block b within the seed radius: columns along
-/// the axis closest to the normal, each cut to the slab |n.(x - a)| <= r, nodes outside the three
-/// edge planes by more than r skipped before the exact test.
+/// Exact distances from triangle t to the nodes of block b within the seed radius that lie over the
+/// triangle, i.e. inside its three edge planes (outside a border edge: within r of it): columns
+/// along the axis closest to the normal, each cut to the slab |n.(x - a)| <= r. The nodes left out
+/// lie over a convex edge or vertex between two triangles; the first layer of propagation gives
+/// them their exact distance (their neighbours' triangles meet at that edge or vertex, whose ring
+/// is then evaluated). This keeps each node from being evaluated by all the triangles around it.
 void DistanceBand::rasterize(std::size_t t, std::int32_t b) {
   const TriangleGeometry& g = patch_.triangles[t];
   const double r = p_.seed_radius;
@@ -726,8 +679,12 @@ void DistanceBand::rasterize(std::size_t t, std::int32_t b) {
   auto coordinate = [&](int axis, std::int64_t i) { return o[axis] + h * static_cast<double>(i - kIndexOffset); };
   const double inv_h = 1.0 / h;
   const double half = g.degenerate ? 0.0 : r / std::abs(n[w]); // |n[w]| >= 1/sqrt(3)
-  std::array<double, 3> column_slack{}; // how far the side test can change along a column
-  for (int k = 0; k < 3; ++k) column_slack[k] = r + half * std::abs(side[k][w]);
+  std::array<double, 3> slack{};        // how far outside edge k a node may be
+  std::array<double, 3> column_slack{}; // the same for a column's point on the plane
+  for (int k = 0; k < 3; ++k) {
+    slack[k] = (patch_.border_sides[t] >> k) & 1 ? r : 0.0;
+    column_slack[k] = slack[k] + half * std::abs(side[k][w]);
+  }
 
   Vec3 x;
   std::array<int, 3> local{};
@@ -751,8 +708,8 @@ void DistanceBand::rasterize(std::size_t t, std::int32_t b) {
       }
       for (std::int64_t kw = k0; kw <= k1; ++kw) {
         x[w] = coordinate(w, kw);
-        if (!g.degenerate && ((x - q[0]).dot(side[0]) > r || (x - q[1]).dot(side[1]) > r ||
-                              (x - q[2]).dot(side[2]) > r))
+        if (!g.degenerate && ((x - q[0]).dot(side[0]) > slack[0] || (x - q[1]).dot(side[1]) > slack[1] ||
+                              (x - q[2]).dot(side[2]) > slack[2]))
           continue;
         const Nearest near = nearest_on_triangle(g, x);
         if (near.squared > r * r) continue;
@@ -919,9 +876,6 @@ void DistanceBand::evaluate_block(std::int32_t b, const std::vector<std::uint32_
       const TriangleGeometry& g = patch_.triangles[t];
       const double plane_distance = g.normal.dot(x) - g.plane; // a lower bound
       if (plane_distance * plane_distance > best.squared) return;
-#ifdef ST_OFFSET_DEBUG
-      ++g_evaluations;
-#endif
       const Nearest n = nearest_on_triangle(g, x);
       if (n.squared < best.squared || (n.squared == best.squared && t < best_t)) {
         best = n;
@@ -1050,22 +1004,6 @@ Contour DistanceBand::contour() const {
   const double iso = p_.iso;
   const double h = p_.h;
 
-  // Slice mask of `field` (a function of block index and slice) seen from block `blk`, slice s,
-  // shifted by (dx, dy, dz) in {0, 1}^3: bit (x, y) tells about node (x + dx, y + dy, s + dz).
-  auto shifted = [&](const auto& field, const Block& blk, int s, int dx, int dy, int dz) {
-    const int oz = (s + dz) >> 3;
-    const int slice = (s + dz) & 7;
-    auto get = [&](int ox, int oy) -> std::uint64_t {
-      const std::int32_t n = blk.neighbours[neighbour_slot(ox, oy, oz)];
-      return n >= 0 ? field(n, slice) : 0;
-    };
-    const std::uint64_t m = get(0, 0);
-    if (dx && dy) return shift_y(shift_x(m, get(1, 0)), shift_x(get(0, 1), get(1, 1)));
-    if (dx) return shift_x(m, get(1, 0));
-    if (dy) return shift_y(m, get(0, 1));
-    return m;
-  };
-
   std::vector<SliceMasks> below(nb);
   parallel_for(nb, 32, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t b = begin; b < end; ++b)
@@ -1078,9 +1016,6 @@ Contour DistanceBand::contour() const {
         below[b][s] = m;
       }
   });
-  auto computed_field = [&](std::int32_t n, int s) { return blocks_[n].computed[s]; };
-  auto spreading_field = [&](std::int32_t n, int s) { return blocks_[n].spreading[s]; };
-  auto below_field = [&](std::int32_t n, int s) { return below[n][s]; };
 
   // Per block: contoured cubes (8 computed nodes, one of which spread), crossed cubes, crossed
   // edges and their ranks. (Requiring a spreading corner changes nothing where the band is
@@ -1099,14 +1034,36 @@ Contour DistanceBand::contour() const {
     for (std::size_t b = begin; b < end; ++b) {
       const Block& blk = blocks_[b];
       BlockContour& out = bc[b];
+      // The blocks at offsets {0, 1}^3, indexed like cube corners.
+      std::array<std::int32_t, 8> corner_block{};
+      for (int c = 0; c < 8; ++c) corner_block[c] = blk.neighbours[neighbour_slot(c & 1, (c >> 1) & 1, c >> 2)];
       for (int s = 0; s < 8; ++s) {
+        // Masks of the corner (cx, cy, cz) of every cube of the slice: the node masks of slice
+        // s + cz shifted by (cx, cy), taking the bits past x = 7 or y = 7 from the next blocks.
         std::array<std::uint64_t, 8> comp{};
         std::array<std::uint64_t, 8> low{};
         std::uint64_t any_spreading = 0;
-        for (int c = 0; c < 8; ++c) {
-          comp[c] = shifted(computed_field, blk, s, c & 1, (c >> 1) & 1, c >> 2);
-          low[c] = shifted(below_field, blk, s, c & 1, (c >> 1) & 1, c >> 2);
-          any_spreading |= shifted(spreading_field, blk, s, c & 1, (c >> 1) & 1, c >> 2);
+        for (int cz = 0; cz < 2; ++cz) {
+          const int oz = (s + cz) >> 3;
+          const int slice = (s + cz) & 7;
+          std::uint64_t fc[4], fb[4], fs[4]; // blocks (0,0), (1,0), (0,1), (1,1) in x, y
+          for (int k = 0; k < 4; ++k) {
+            const std::int32_t n = corner_block[k + 4 * oz];
+            fc[k] = n >= 0 ? blocks_[n].computed[slice] : 0;
+            fb[k] = n >= 0 ? below[n][slice] : 0;
+            fs[k] = n >= 0 ? blocks_[n].spreading[slice] : 0;
+          }
+          auto shifts = [](const std::uint64_t* f, std::uint64_t* out4) {
+            out4[0] = f[0];
+            out4[1] = shift_x(f[0], f[1]);
+            out4[2] = shift_y(f[0], f[2]);
+            out4[3] = shift_y(out4[1], shift_x(f[2], f[3]));
+          };
+          shifts(fc, &comp[4 * cz]);
+          shifts(fb, &low[4 * cz]);
+          std::uint64_t sp[4];
+          shifts(fs, sp);
+          any_spreading |= sp[0] | sp[1] | sp[2] | sp[3];
         }
         std::uint64_t all_computed = ~std::uint64_t{0};
         std::uint64_t any_below = 0;
@@ -1167,9 +1124,6 @@ Contour DistanceBand::contour() const {
             const double v0 = node_value(blk, x, y, z);
             const double v1 = node_value(blk, x + dx, y + dy, z + dz);
             const double t = (iso - v0) / (v1 - v0);
-#ifdef ST_OFFSET_DEBUG
-            if (!(t > 0 && t < 1)) std::fprintf(stderr, "bad t %g v0 %g v1 %g b %zu d %d s %d bit %d\n", t, v0, v1, b, d, s, bit);
-#endif
             const std::uint64_t all = bc[b].crossed_edges[d - 1][s];
             const Index index = bc[b].first + bc[b].rank[d - 1][s] +
                                 static_cast<Index>(bit_count(all & ((std::uint64_t{1} << bit) - 1)));
@@ -1443,6 +1397,8 @@ OffsetResult offset_surface(const TriangleMesh& surface, const OffsetOptions& op
   if (std::isnan(options.max_cells) || options.max_cells <= 0.0)
     throw InvalidInput("offset: max_cells must be > 0");
   if (surface.empty()) throw InvalidInput("offset: the surface has no triangles");
+  if (surface.triangles.size() >= (std::size_t{1} << 28))
+    throw InvalidInput("offset: the surface has more than 2^28 triangles");
   check_mesh(surface, "offset");
 
   const Patch patch = build_patch(surface, options.front_only);
@@ -1476,50 +1432,20 @@ OffsetResult offset_surface(const TriangleMesh& surface, const OffsetOptions& op
   params.limit = distance + 2.0 * h;
   params.seed_radius = 1.5 * h;
   params.margin = front_margin(distance, h);
-  params.back_margin = std::min(params.margin, h);
   params.front_only = options.front_only;
   params.node_cap = 4.0 * options.max_cells;
   params.expected_nodes = static_cast<std::size_t>(expected);
 
-#ifdef ST_OFFSET_DEBUG
-  auto t0 = std::chrono::steady_clock::now();
-  std::clock_t c0 = std::clock();
-  auto lap = [&](const char* what) {
-    const auto t1 = std::chrono::steady_clock::now();
-    const std::clock_t c1 = std::clock();
-    std::fprintf(stderr, "%s %.1f ms (cpu %.1f ms)\n", what, 1e3 * std::chrono::duration<double>(t1 - t0).count(),
-                 1e3 * static_cast<double>(c1 - c0) / CLOCKS_PER_SEC);
-    t0 = t1;
-    c0 = c1;
-  };
-#else
-  auto lap = [](const char*) {};
-#endif
   DistanceBand band(patch, params);
   band.seed();
-  lap("seed");
   band.grow();
-  lap("grow");
-#ifdef ST_OFFSET_DEBUG
-  std::fprintf(stderr, "evaluations %ld for %zu nodes\n", g_evaluations.exchange(0), band.computed_nodes());
-#endif
-#ifdef ST_OFFSET_DEBUG
-  if (std::getenv("ST_OFFSET_CHECK")) band.debug_check();
-  if (const char* box = std::getenv("ST_OFFSET_DUMP")) {
-    double v[6];
-    std::sscanf(box, "%lf,%lf,%lf,%lf,%lf,%lf", v, v + 1, v + 2, v + 3, v + 4, v + 5);
-    band.debug_dump(Vec3(v[0], v[1], v[2]), Vec3(v[3], v[4], v[5]));
-  }
-#endif
 
   OffsetResult result;
   Contour contour = band.contour();
-  lap("contour");
   if (options.front_only) {
     remove_back_islands(contour, patch);
     split_pinched_vertices(contour.mesh, contour.border_candidates);
   }
-  lap("split");
   result.surface = std::move(contour.mesh);
   result.band_voxels = band.computed_nodes();
   result.cell_size = h;

@@ -240,7 +240,7 @@ void check_self_crossing(const TriangleMesh& mesh, const SurfaceCurve& curve,
           if ((si + 1) % n == sj || (sj + 1) % n == si) continue;
           if (segments_cross_2d(p2(si), p2(si + 1), p2(sj), p2(sj + 1)))
             throw GeometryError(options.name + ": the curve crosses itself near " + where(curve.polyline[si]) +
-                                ": reorder or move the control points");
+                                (options.smooth ? ": reorder or move the control points" : ""));
         }
     }
     lo = hi;

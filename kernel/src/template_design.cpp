@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <unordered_map>
 
 namespace st {
 
@@ -42,25 +43,38 @@ void check_options(const TemplateOptions& o) {
   if (o.inside && !o.inside->allFinite()) throw InvalidInput("boundary.inside has a non-finite coordinate");
 }
 
-// Moves every vertex along a smoothed normal by `distance` (the clearance between bone and
-// template). Normals are averaged over a few rings first: on scanned bone with slice striations the
-// raw vertex normals turn sharply from one vertex to the next, and displacing along them folds
-// small triangles over.
-void displace(TriangleMesh& mesh, double distance) {
+// Moves the region off the bone by `distance` (the clearance) along a smooth normal field of the
+// bone: vertex normals averaged over a few rings (raw normals of scanned bone turn sharply from one
+// vertex to the next), interpolated along the cut edges for the rim vertices. Because the field is
+// continuous across the bone's triangles, the tiny triangles the cut makes move with their
+// neighbours instead of folding over.
+void displace(const MeshTopology& bone, CutResult& region, double distance) {
   if (distance <= 0.0) return;
-  std::vector<Vec3> n = vertex_normals(mesh);
-  const MeshTopology topology(mesh);
-  for (int iteration = 0; iteration < 4; ++iteration) {
-    std::vector<Vec3> next(n.size(), Vec3::Zero());
-    for (Index v = 0; v < mesh.vertex_count(); ++v) {
-      for (Index f : topology.faces_of(v))
-        for (Index w : mesh.triangles[f]) next[v] += n[w];
-      const double len = next[v].norm();
-      next[v] = len > 0.0 ? Vec3(next[v] / len) : n[v];
-    }
-    n = std::move(next);
+  const TriangleMesh& mesh = bone.mesh();
+  std::unordered_map<Index, Vec3> normal;
+  for (const CutResult::Source& s : region.source)
+    for (Index v : s.edge) normal.emplace(v, Vec3::Zero());
+  for (auto& [v, n] : normal) {
+    for (Index f : bone.faces_of(v)) n += triangle_normal(mesh, f);
+    if (n.norm() > 0.0) n.normalize();
   }
-  for (std::size_t v = 0; v < mesh.positions.size(); ++v) mesh.positions[v] += distance * n[v];
+  for (int iteration = 0; iteration < 4; ++iteration) {
+    std::unordered_map<Index, Vec3> next = normal;
+    for (auto& [v, n] : next) {
+      Vec3 sum = Vec3::Zero();
+      for (Index f : bone.faces_of(v))
+        for (Index w : mesh.triangles[f])
+          if (const auto it = normal.find(w); it != normal.end()) sum += it->second;
+      if (sum.norm() > 0.0) n = sum.normalized();
+    }
+    normal = std::move(next);
+  }
+  for (std::size_t i = 0; i < region.source.size(); ++i) {
+    const CutResult::Source& s = region.source[i];
+    Vec3 n = (1.0 - s.t) * normal[s.edge[0]] + s.t * normal[s.edge[1]];
+    if (n.norm() > 0.0) n.normalize();
+    region.region.positions[i] += distance * n;
+  }
 }
 
 // The region vertex farthest (in edges) from the border: a point well inside the region.
@@ -115,7 +129,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   cut_options.inside = options.inside;
   CutResult inner = cut_region(topology, curve, cut_options);
   const TriangleMesh bone_region = inner.region;
-  displace(inner.region, options.clearance);
+  displace(topology, inner, options.clearance);
   result.curve = curve.polyline;
   result.inner_rim_points = inner.rim.size();
   result.times.inner_segmentation = seconds_since(t0);
@@ -139,31 +153,34 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   double rim_length = 0.0;
   for (std::size_t i = 0; i < m; ++i)
     rim_length += (inner.region.positions[inner.rim[(i + 1) % m]] - inner.region.positions[inner.rim[i]]).norm();
+  const bool auto_step = options.sampling_step == 0;
   int step = options.sampling_step;
-  if (step == 0) step = std::max(1, static_cast<int>(std::lround(0.5 * T / (rim_length / static_cast<double>(m)))));
-  step = std::min<int>(step, static_cast<int>(m / 3));
-  step = std::max(step, 1);
-  result.sampling_step = step;
+  if (auto_step) step = std::max(1, static_cast<int>(std::lround(0.5 * T / (rim_length / static_cast<double>(m)))));
+  step = std::clamp<int>(step, 1, std::max<int>(1, static_cast<int>(m / 3)));
   const std::vector<Vec3> normals = vertex_normals(inner.region);
   const AabbTree offset_tree(offset.surface);
-  std::vector<Vec3> outer_points;
-  std::vector<Index> outer_faces;
-  const int half = std::max(1, step / 2);
-  for (std::size_t i = 0; i < m; i += static_cast<std::size_t>(step)) {
-    if (m - i < static_cast<std::size_t>(step) / 2 && i != 0) break; // avoid a crowded last sample
-    Vec3 n = Vec3::Zero();
-    for (int k = -half; k <= half; ++k) n += normals[inner.rim[(i + m + static_cast<std::size_t>(k + static_cast<int>(m))) % m]];
-    if (n.squaredNorm() == 0.0) continue;
-    n.normalize();
-    const Vec3& p = inner.region.positions[inner.rim[i]];
-    if (const auto hit = offset_tree.first_hit(p, n, 0.0, 3.0 * T)) {
-      outer_points.push_back(hit->point);
-      outer_faces.push_back(hit->face);
-    } else if (const auto c = offset_tree.closest_point(p + T * n)) {
-      outer_points.push_back(c->point);
-      outer_faces.push_back(c->face);
+  // Every `step` rim points, a ray along the normal averaged over the step meets the offset.
+  auto project = [&](int step, std::vector<Vec3>& points, std::vector<Index>& faces) {
+    points.clear();
+    faces.clear();
+    const int half = std::max(1, step / 2);
+    for (std::size_t i = 0; i < m; i += static_cast<std::size_t>(step)) {
+      if (m - i < static_cast<std::size_t>(step) / 2 && i != 0) break; // avoid a crowded last sample
+      Vec3 n = Vec3::Zero();
+      for (int k = -half; k <= half; ++k)
+        n += normals[inner.rim[(i + m + static_cast<std::size_t>(k + static_cast<int>(m))) % m]];
+      if (n.squaredNorm() == 0.0) continue;
+      n.normalize();
+      const Vec3& p = inner.region.positions[inner.rim[i]];
+      if (const auto hit = offset_tree.first_hit(p, n, 0.0, 3.0 * T)) {
+        points.push_back(hit->point);
+        faces.push_back(hit->face);
+      } else if (const auto c = offset_tree.closest_point(p + T * n)) {
+        points.push_back(c->point);
+        faces.push_back(c->face);
+      }
     }
-  }
+  };
   // A point on the outer sheet above the middle of the inner surface tells the sides apart.
   const Index centre = innermost_vertex(inner.region, inner.rim);
   const Vec3& centre_point = inner.region.positions[centre];
@@ -175,42 +192,65 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   result.times.outer_points = seconds_since(t0);
 
   // 4. Outer surface: the offset cut along those points, keeping the side above the inner surface.
-  t0 = Clock::now();
+  //    Where the border turns tightly, projected samples can zig-zag and the loop cross itself (the
+  //    paper's reason for a sampling step); with an automatic step, a coarser one is tried then.
   const MeshTopology offset_topology(offset.surface);
   CurveOptions outer_curve_options;
   outer_curve_options.name = "outer cut";
-  const SurfaceCurve outer_curve = join_surface_points(offset_topology, outer_points, outer_faces, outer_curve_options);
   CutOptions outer_cut_options;
   outer_cut_options.inside = above->point;
   outer_cut_options.inside_face = above->face;
-  const CutResult outer = cut_region(offset_topology, outer_curve, outer_cut_options);
-  result.outer_curve = outer_curve.polyline;
-  result.outer_rim_points = outer.rim.size();
-  result.times.outer_segmentation = seconds_since(t0);
+  std::optional<CutResult> outer;
+  for (int attempt = 0; !outer; ++attempt) {
+    t0 = Clock::now();
+    std::vector<Vec3> outer_points;
+    std::vector<Index> outer_faces;
+    project(step, outer_points, outer_faces);
+    result.times.outer_points += seconds_since(t0);
+    t0 = Clock::now();
+    try {
+      const SurfaceCurve outer_curve =
+          join_surface_points(offset_topology, outer_points, outer_faces, outer_curve_options);
+      outer = cut_region(offset_topology, outer_curve, outer_cut_options);
+      result.outer_curve = outer_curve.polyline;
+    } catch (const GeometryError& e) {
+      const bool crossing = std::string(e.what()).find("crosses itself") != std::string::npos;
+      if (!crossing || !auto_step || attempt >= 3 || 2 * step > static_cast<int>(m / 3)) {
+        if (crossing && !auto_step)
+          throw GeometryError(std::string(e.what()) + " (try a larger template.sampling_step than " +
+                              std::to_string(step) + ")");
+        throw;
+      }
+      step *= 2;
+    }
+    result.times.outer_segmentation += seconds_since(t0);
+  }
+  result.sampling_step = step;
+  result.outer_rim_points = outer->rim.size();
 
   // 5. Connection: the ruled wall, and the shell.
   t0 = Clock::now();
   std::vector<Vec3> p_loop, q_loop;
   for (Index v : inner.rim) p_loop.push_back(inner.region.positions[v]);
-  for (Index v : outer.rim) q_loop.push_back(outer.region.positions[v]);
+  for (Index v : outer->rim) q_loop.push_back(outer->region.positions[v]);
   const Index n_inner = inner.region.vertex_count();
   TriangleMesh& shell = result.shell;
   shell.positions = inner.region.positions;
-  shell.positions.insert(shell.positions.end(), outer.region.positions.begin(), outer.region.positions.end());
+  shell.positions.insert(shell.positions.end(), outer->region.positions.begin(), outer->region.positions.end());
   for (const Triangle& t : inner.region.triangles) shell.triangles.push_back({t[0], t[2], t[1]});
-  for (const Triangle& t : outer.region.triangles)
+  for (const Triangle& t : outer->region.triangles)
     shell.triangles.push_back({t[0] + n_inner, t[1] + n_inner, t[2] + n_inner});
   // The wall uses loop positions 0..m-1 / 0..n-1; map them to shell vertex indices afterwards.
   const RuledResult wall = ruled_surface(p_loop, q_loop, 0, static_cast<Index>(m));
   for (const Triangle& t : wall.triangles) {
     Triangle s{};
     for (int k = 0; k < 3; ++k)
-      s[k] = t[k] < m ? inner.rim[t[k]] : outer.rim[t[k] - m] + n_inner;
+      s[k] = t[k] < m ? inner.rim[t[k]] : outer->rim[t[k] - m] + n_inner;
     shell.triangles.push_back(s);
   }
   result.wall_triangles = wall.triangles.size();
   result.inner = std::move(inner.region);
-  result.outer = outer.region;
+  result.outer = std::move(outer->region);
   result.times.connection = seconds_since(t0);
   result.times.total = result.times.inner_segmentation + result.times.offset + result.times.outer_points +
                        result.times.outer_segmentation + result.times.connection;

@@ -125,6 +125,24 @@ TEST(Template, NothingEnclosedIsAGeometryError) {
   EXPECT_THROW(design_template(plate, o), GeometryError);
 }
 
+// Regression: displacing the cut region along per-vertex normals folded the cut's tiny triangles
+// on striated cryosection bone; the clearance now follows a smooth normal field of the bone.
+TEST(Template, ClearanceOnStriatedBoneStaysValid) {
+  const CaseFile c = read_case(examples_dir() + "/cases/tibia-osteotomy.json");
+  const TriangleMesh bone = read_mesh(c.bone);
+  for (double clearance : {0.3, 0.5}) {
+    TemplateOptions o;
+    o.boundary_points = c.boundary_points;
+    o.inside = c.inside;
+    o.thickness = c.thickness;
+    o.clearance = clearance;
+    const TemplateResult r = design_template(bone, o);
+    expect_valid_solid(r.shell);
+    EXPECT_NEAR(r.fit.inner_to_bone.max, clearance, 0.05 * clearance);
+    EXPECT_GT(r.fit.inner_to_bone.min, 0.8 * clearance);
+  }
+}
+
 // Every example case (real anatomical meshes) gives a valid template that fits its bone.
 class ExampleCase : public ::testing::TestWithParam<std::string> {};
 

@@ -14,6 +14,7 @@
 #include "st/surface_curve.h"
 #include "st/topology.h"
 
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -34,6 +35,13 @@ struct CutResult {
   TriangleMesh region;            ///< the kept part, triangles oriented as in the input
   std::vector<Index> rim;         ///< the region's border loop (region vertex indices), region on its left
   std::vector<Index> source_vertex; ///< per region vertex: the input vertex, or kInvalidIndex for a cut vertex
+  /// Where a cut vertex lies: (1 - t) * input[edge[0]] + t * input[edge[1]]. For input vertices the
+  /// edge is (v, v) and t = 0.
+  struct Source {
+    std::array<Index, 2> edge{kInvalidIndex, kInvalidIndex};
+    double t = 0.0;
+  };
+  std::vector<Source> source;     ///< per region vertex
   double area = 0.0;              ///< area of the region, mm^2
 };
 
