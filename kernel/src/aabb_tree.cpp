@@ -75,21 +75,26 @@ AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces)
     std::iota(faces_.begin(), faces_.end(), Index{0});
   }
   if (faces_.empty()) return;
-  std::vector<Vec3> centroids(faces_.size());
-  face_boxes_.resize(faces_.size());
+  std::vector<Item> items(faces_.size());
   for (std::size_t i = 0; i < faces_.size(); ++i) {
-    face_boxes_[i] = triangle_box(mesh, faces_[i]);
-    centroids[i] = face_boxes_[i].center();
+    items[i].box = triangle_box(mesh, faces_[i]);
+    items[i].centre = items[i].box.center();
+    items[i].face = faces_[i];
   }
-  nodes_.reserve(2 * faces_.size() / 2 + 1);
-  build(0, static_cast<Index>(faces_.size()), centroids);
+  nodes_.reserve(faces_.size() / 2 + 1);
+  build(items, 0, static_cast<Index>(items.size()));
+  face_boxes_.resize(items.size());
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    faces_[i] = items[i].face;
+    face_boxes_[i] = items[i].box;
+  }
 }
 
-Index AabbTree::build(Index begin, Index end, std::vector<Vec3>& centroids) {
+Index AabbTree::build(std::vector<Item>& items, Index begin, Index end) {
   const Index id = static_cast<Index>(nodes_.size());
   nodes_.emplace_back();
   BoundingBox box;
-  for (Index i = begin; i < end; ++i) box.extend(face_boxes_[i]);
+  for (Index i = begin; i < end; ++i) box.extend(items[i].box);
   nodes_[id].box = box;
   if (end - begin <= 4) {
     nodes_[id].begin = begin;
@@ -99,26 +104,10 @@ Index AabbTree::build(Index begin, Index end, std::vector<Vec3>& centroids) {
   int axis = 0;
   box.size().maxCoeff(&axis);
   const Index mid = begin + (end - begin) / 2;
-  // Sort faces_, face_boxes_ and centroids together through a permutation of [begin, end).
-  std::vector<Index> order(end - begin);
-  std::iota(order.begin(), order.end(), begin);
-  std::nth_element(order.begin(), order.begin() + (mid - begin), order.end(),
-                   [&](Index x, Index y) { return centroids[x][axis] < centroids[y][axis]; });
-  {
-    std::vector<Index> f(order.size());
-    std::vector<BoundingBox> b(order.size());
-    std::vector<Vec3> c(order.size());
-    for (std::size_t i = 0; i < order.size(); ++i) {
-      f[i] = faces_[order[i]];
-      b[i] = face_boxes_[order[i]];
-      c[i] = centroids[order[i]];
-    }
-    std::copy(f.begin(), f.end(), faces_.begin() + begin);
-    std::copy(b.begin(), b.end(), face_boxes_.begin() + begin);
-    std::copy(c.begin(), c.end(), centroids.begin() + begin);
-  }
-  const Index left = build(begin, mid, centroids);
-  const Index right = build(mid, end, centroids);
+  std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                   [axis](const Item& x, const Item& y) { return x.centre[axis] < y.centre[axis]; });
+  const Index left = build(items, begin, mid);
+  const Index right = build(items, mid, end);
   nodes_[id].left = left;
   nodes_[id].right = right;
   return id;

@@ -343,22 +343,35 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
     throw InvalidInput(options.name + ": max_snap_distance must be > 0");
   if (mesh.empty()) throw InvalidInput(options.name + ": the mesh has no triangles");
 
-  // 1. Index the triangles near the control points only.
+  // 1. Index only the triangles in a tube around the control polygon (the spline stays within a
+  //    fraction of a segment's length of its chord), plus those near the extra point.
   BoundingBox box;
   double longest = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     box.extend(control_points[i]);
     longest = std::max(longest, (control_points[(i + 1) % n] - control_points[i]).norm());
   }
-  if (options.also_index) box.extend(*options.also_index);
-  const BoundingBox near = box.inflated(2.0 * options.max_snap_distance + 0.5 * longest);
+  const double snap_margin = 2.0 * options.max_snap_distance;
+  BoundingBox near = box.inflated(snap_margin + 0.5 * longest);
+  if (options.also_index) near.extend(BoundingBox{*options.also_index, *options.also_index}.inflated(snap_margin));
   std::vector<char> candidate(mesh.face_count(), 0);
   std::vector<Index> candidates;
   for (Index f = 0; f < mesh.face_count(); ++f) {
     const Triangle& t = mesh.triangles[f];
     BoundingBox b;
     for (Index v : t) b.extend(mesh.positions[v]);
-    if (b.overlaps(near)) {
+    if (!b.overlaps(near)) continue;
+    const Vec3 c = b.center();
+    const double r = 0.5 * b.diagonal();
+    bool in_tube = options.also_index && ((*options.also_index - c).norm() - r <= snap_margin);
+    for (std::size_t i = 0; i < n && !in_tube; ++i) {
+      const Vec3& a = control_points[i];
+      const Vec3 ab = control_points[(i + 1) % n] - a;
+      const double len2 = ab.squaredNorm();
+      const double u = len2 > 0.0 ? std::clamp((c - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+      in_tube = (c - (a + u * ab)).norm() - r <= snap_margin + 0.5 * std::sqrt(len2);
+    }
+    if (in_tube) {
       candidate[f] = 1;
       candidates.push_back(f);
     }

@@ -138,7 +138,9 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   t0 = Clock::now();
   OffsetOptions offset_options;
   offset_options.distance = T;
-  offset_options.cell_size = options.resolution; // 0: the offset picks one from T and the mesh
+  // Without an explicit resolution, T / 8: independent of how finely the bone is triangulated, so
+  // a refined scan costs no more here than the coarse one.
+  offset_options.cell_size = options.resolution > 0.0 ? options.resolution : T / 8.0;
   offset_options.front_only = true;
   offset_options.max_cells = options.max_field_cells;
   const OffsetResult offset = offset_surface(inner.region, offset_options);

@@ -62,7 +62,12 @@ private:
     Index begin = 0;            // leaf: range in faces_
     Index end = 0;
   };
-  Index build(Index begin, Index end, std::vector<Vec3>& centroids);
+  struct Item {
+    BoundingBox box;
+    Vec3 centre;
+    Index face;
+  };
+  Index build(std::vector<Item>& items, Index begin, Index end);
   void self_pairs(Index a, Index b, const std::function<void(Index, Index)>& visit) const;
   void cross_pairs(Index a, const AabbTree& other, Index b,
                    const std::function<void(Index, Index)>& visit) const;

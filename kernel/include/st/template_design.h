@@ -20,7 +20,7 @@ struct TemplateOptions {
   std::optional<Vec3> inside;         ///< a point inside the region to keep; else the smaller side
   double thickness = 2.5;             ///< outer surface distance from the inner surface, mm (> 0)
   double clearance = 0.0;             ///< gap between bone and inner surface, mm (>= 0)
-  double resolution = 0.0;            ///< distance-field cell size, mm; 0 lets offset_surface pick
+  double resolution = 0.0;            ///< distance-field cell size, mm; 0 picks thickness / 8
   int sampling_step = 0;              ///< border points between outer-cut samples; 0 picks ~ thickness apart
   double max_snap_distance = tol::kMaxSnapDistance_mm;
   double max_field_cells = tol::kMaxFieldCells;
