@@ -351,8 +351,8 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
     box.extend(control_points[i]);
     longest = std::max(longest, (control_points[(i + 1) % n] - control_points[i]).norm());
   }
-  const double snap_margin = 2.0 * options.max_snap_distance;
-  BoundingBox near = box.inflated(snap_margin + 0.5 * longest);
+  const double snap_margin = options.max_snap_distance;
+  BoundingBox near = box.inflated(snap_margin + 0.3 * longest);
   if (options.also_index) near.extend(BoundingBox{*options.also_index, *options.also_index}.inflated(snap_margin));
   std::vector<char> candidate(mesh.face_count(), 0);
   std::vector<Index> candidates;
@@ -369,7 +369,7 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
       const Vec3 ab = control_points[(i + 1) % n] - a;
       const double len2 = ab.squaredNorm();
       const double u = len2 > 0.0 ? std::clamp((c - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-      in_tube = (c - (a + u * ab)).norm() - r <= snap_margin + 0.5 * std::sqrt(len2);
+      in_tube = (c - (a + u * ab)).norm() - r <= snap_margin + 0.3 * std::sqrt(len2);
     }
     if (in_tube) {
       candidate[f] = 1;
@@ -383,8 +383,9 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
   SurfaceCurve curve;
   // 2. Snap, then keep to the connected part of the surface most control points lie on (CT noise
   //    islands and facing surfaces across thin gaps must not capture the curve).
+  std::optional<AabbTree> tree;
   {
-    const AabbTree near_tree(mesh, candidates);
+    AabbTree near_tree(mesh, candidates);
     std::vector<Index> snapped(n);
     for (std::size_t i = 0; i < n; ++i) {
       const auto c = near_tree.closest_point(control_points[i]);
@@ -413,8 +414,9 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
       }
     }
     curve.local_faces = std::move(best);
+    if (curve.local_faces.size() == candidates.size()) tree.emplace(std::move(near_tree));
   }
-  const AabbTree tree(mesh, curve.local_faces);
+  if (!tree) tree.emplace(mesh, curve.local_faces);
   double edge_sum = 0.0;
   for (Index f : curve.local_faces)
     for (int k = 0; k < 3; ++k)
@@ -422,7 +424,7 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
   const double mean_edge = edge_sum / (3.0 * static_cast<double>(curve.local_faces.size()));
 
   for (std::size_t i = 0; i < n; ++i) {
-    const auto c = tree.closest_point(control_points[i]);
+    const auto c = tree->closest_point(control_points[i]);
     if (!c || c->distance > options.max_snap_distance)
       throw InvalidInput(options.name + ": control point " + std::to_string(i) + " " + where(control_points[i]) +
                          " is " + (c ? std::to_string(c->distance) : std::string("too far")) +
@@ -464,7 +466,7 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
   }
   if (curve.samples.size() < 3) throw InvalidInput(options.name + ": the control points enclose no area");
 
-  join_samples(topology, &tree, options, curve);
+  join_samples(topology, &*tree, options, curve);
   return curve;
 }
 

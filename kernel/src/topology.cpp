@@ -29,15 +29,13 @@ Index MeshTopology::opposite(Index h) const {
   for (Index g : faces_of(b)) {
     if (g == f) continue;
     const Triangle& t = mesh_.triangles[g];
-    for (int k = 0; k < 3; ++k) {
-      const Index u = t[k];
-      const Index w = t[(k + 1) % 3];
-      if (u == b && w == a) {
-        ++reverse;
-        found = 3 * g + static_cast<Index>(k);
-      } else if (u == a && w == b) {
-        ++same;
-      }
+    // Where b sits in g; then b -> a follows it, or a -> b precedes it.
+    const Index k = t[0] == b ? 0 : (t[1] == b ? 1 : 2);
+    if (t[(k + 1) % 3] == a) {
+      ++reverse;
+      found = 3 * g + k;
+    } else if (t[(k + 2) % 3] == a) {
+      ++same;
     }
   }
   return (reverse == 1 && same == 0) ? found : kInvalidIndex;
