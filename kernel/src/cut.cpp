@@ -88,6 +88,7 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
 
   // 2. Flood both sides from the cut faces, the side with less area first; the first to close wins.
   std::deque<Index> queue[2]; // [0]: left, [1]: right
+  std::vector<Index> flooded[2]; // whole faces taken by each side
   double area[2] = {0.0, 0.0};
   std::size_t border_edges[2] = {0, 0};
   Vec3 border_at[2] = {Vec3::Zero(), Vec3::Zero()};
@@ -122,6 +123,7 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
     const signed char s = qi == 0 ? kLeft : kRight;
     const Index f = queue[qi].front();
     queue[qi].pop_front();
+    flooded[qi].push_back(f);
     area[qi] += 0.5 * triangle_normal(mesh, f).norm();
     for (Index v : mesh.triangles[f]) {
       if (side[v] == -s)
@@ -214,7 +216,7 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
   auto& pos = result.region.positions;
   auto emit = [&](Index a, Index b, Index c) { tris.push_back({a, b, c}); };
 
-  // Kept whole faces: flood again over the kept side from the cut faces (face_state holds it).
+  // The kept parts of the cut faces.
   for (Index f : cut_faces) {
     const Triangle& t = mesh.triangles[f];
     int kept = 0;
@@ -239,26 +241,10 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
       }
     }
   }
-  // Whole faces of the kept side: every face flooded with `keep`. They are exactly the faces whose
-  // state is keep; collect them by a walk from the cut faces so the cost stays with the region.
-  {
-    std::vector<Index> stack;
-    std::unordered_map<Index, char> seen;
-    for (Index f : cut_faces)
-      for (Index k = 0; k < 3; ++k) {
-        const Index o = topology.opposite(3 * f + k);
-        if (o != kInvalidIndex && face_state[o / 3] == keep && seen.emplace(o / 3, 1).second) stack.push_back(o / 3);
-      }
-    while (!stack.empty()) {
-      const Index f = stack.back();
-      stack.pop_back();
-      const Triangle& t = mesh.triangles[f];
-      emit(vertex(t[0]), vertex(t[1]), vertex(t[2]));
-      for (Index k = 0; k < 3; ++k) {
-        const Index o = topology.opposite(3 * f + k);
-        if (o != kInvalidIndex && face_state[o / 3] == keep && seen.emplace(o / 3, 1).second) stack.push_back(o / 3);
-      }
-    }
+  // Whole faces of the kept side, as the flood took them.
+  for (Index f : flooded[q(keep)]) {
+    const Triangle& t = mesh.triangles[f];
+    emit(vertex(t[0]), vertex(t[1]), vertex(t[2]));
   }
   result.area = surface_area(result.region);
 

@@ -41,33 +41,6 @@ Vec3 catmull_rom(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3,
   return (t2 - t) / (t2 - t1) * b1 + (t - t1) / (t2 - t1) * b2;
 }
 
-// Faces connected (across manifold edges) to `seeds` inside the candidate set.
-std::vector<Index> connected_faces(const MeshTopology& topo, const std::vector<char>& candidate,
-                                   const std::vector<Index>& seeds) {
-  std::vector<char> seen(candidate.size(), 0);
-  std::vector<Index> out, stack;
-  for (Index s : seeds)
-    if (!seen[s]) {
-      seen[s] = 1;
-      stack.push_back(s);
-    }
-  while (!stack.empty()) {
-    const Index f = stack.back();
-    stack.pop_back();
-    out.push_back(f);
-    for (Index k = 0; k < 3; ++k) {
-      const Index o = topo.opposite(3 * f + k);
-      if (o == kInvalidIndex) continue;
-      const Index g = o / 3;
-      if (candidate[g] && !seen[g]) {
-        seen[g] = 1;
-        stack.push_back(g);
-      }
-    }
-  }
-  return out;
-}
-
 // Closest point to p among the faces connected to `start` that come within `radius` of p.
 ClosestPoint local_closest_point(const MeshTopology& topo, const Vec3& p, Index start, double radius) {
   const TriangleMesh& mesh = topo.mesh();
@@ -95,8 +68,7 @@ ClosestPoint local_closest_point(const MeshTopology& topo, const Vec3& p, Index 
 
 class CurveTracer {
 public:
-  CurveTracer(const MeshTopology& topo, const AabbTree* tree, std::string name)
-      : topo_(topo), mesh_(topo.mesh()), tree_(tree), name_(std::move(name)) {}
+  CurveTracer(const MeshTopology& topo, std::string name) : topo_(topo), mesh_(topo.mesh()), name_(std::move(name)) {}
 
   // Walks from (a in fa) to (b in fb); appends crossings and their points. Returns false when the
   // walk could not reach fb (the caller subdivides).
@@ -176,8 +148,7 @@ public:
       throw GeometryError(name_ + ": cannot follow the surface between " + where(a) + " and " + where(b) +
                           ": the surface has a gap or a sharp fold there; move the control points");
     const Vec3 half = 0.5 * (a + b);
-    const ClosestPoint mid = tree_ ? *tree_->closest_point(half)
-                                   : local_closest_point(topo_, half, fa, (b - a).norm() + 1e-9);
+    const ClosestPoint mid = local_closest_point(topo_, half, fa, (b - a).norm() + 1e-9);
     trace(a, fa, mid.point, mid.face, depth + 1, out, points);
     points.push_back(mid.point);
     trace(mid.point, mid.face, b, fb, depth + 1, out, points);
@@ -186,7 +157,6 @@ public:
 private:
   const MeshTopology& topo_;
   const TriangleMesh& mesh_;
-  const AabbTree* tree_; // may be null: then midpoints are found by a local search
   std::string name_;
 
   // Area-weighted normal of the faces around f's corners: robust on sliver triangles.
@@ -249,7 +219,7 @@ void check_self_crossing(const TriangleMesh& mesh, const SurfaceCurve& curve,
 
 // Joins the curve's samples by walks over the surface: fills crossings, polyline and length, and
 // checks that the curve does not cross itself.
-void join_samples(const MeshTopology& topology, const AabbTree* tree, const CurveOptions& options,
+void join_samples(const MeshTopology& topology, const CurveOptions& options,
                   SurfaceCurve& curve) {
   const TriangleMesh& mesh = topology.mesh();
   // 4. Walk the surface between consecutive samples. The walk gives a sequence of events: points
@@ -260,7 +230,7 @@ void join_samples(const MeshTopology& topology, const AabbTree* tree, const Curv
     Index halfedge = kInvalidIndex;   // crossings only
     double t = 0.0;
   };
-  const CurveTracer tracer(topology, tree, options.name);
+  const CurveTracer tracer(topology, options.name);
   std::vector<Event> events;
   const std::size_t m = curve.samples.size();
   for (std::size_t i = 0; i < m; ++i) {
@@ -343,96 +313,89 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
     throw InvalidInput(options.name + ": max_snap_distance must be > 0");
   if (mesh.empty()) throw InvalidInput(options.name + ": the mesh has no triangles");
 
-  // 1. Index only the triangles in a tube around the control polygon (the spline stays within a
-  //    fraction of a segment's length of its chord), plus those near the extra point.
-  BoundingBox box;
-  double longest = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    box.extend(control_points[i]);
-    longest = std::max(longest, (control_points[(i + 1) % n] - control_points[i]).norm());
+  // 1. The faces within the snap distance of each control point (and of the extra point): one pass
+  //    over the mesh's bounding boxes, nothing indexed. The rest of the work follows the surface.
+  const double reach = options.max_snap_distance;
+  std::vector<Vec3> centres(control_points);
+  std::vector<double> radii(n, reach);
+  if (options.also_index) {
+    centres.push_back(*options.also_index);
+    radii.push_back(2.0 * reach);
   }
-  const double snap_margin = options.max_snap_distance;
-  BoundingBox near = box.inflated(snap_margin + 0.3 * longest);
-  if (options.also_index) near.extend(BoundingBox{*options.also_index, *options.also_index}.inflated(snap_margin));
-  std::vector<char> candidate(mesh.face_count(), 0);
-  std::vector<Index> candidates;
+  BoundingBox all;
+  for (std::size_t i = 0; i < centres.size(); ++i) all.extend(BoundingBox{centres[i], centres[i]}.inflated(radii[i]));
+  std::vector<std::vector<std::pair<double, Index>>> near(centres.size()); // (distance, face) per point
   for (Index f = 0; f < mesh.face_count(); ++f) {
     const Triangle& t = mesh.triangles[f];
     BoundingBox b;
     for (Index v : t) b.extend(mesh.positions[v]);
-    if (!b.overlaps(near)) continue;
-    const Vec3 c = b.center();
-    const double r = 0.5 * b.diagonal();
-    bool in_tube = options.also_index && ((*options.also_index - c).norm() - r <= snap_margin);
-    for (std::size_t i = 0; i < n && !in_tube; ++i) {
-      const Vec3& a = control_points[i];
-      const Vec3 ab = control_points[(i + 1) % n] - a;
-      const double len2 = ab.squaredNorm();
-      const double u = len2 > 0.0 ? std::clamp((c - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-      in_tube = (c - (a + u * ab)).norm() - r <= snap_margin + 0.3 * std::sqrt(len2);
-    }
-    if (in_tube) {
-      candidate[f] = 1;
-      candidates.push_back(f);
+    if (!b.overlaps(all)) continue;
+    for (std::size_t i = 0; i < centres.size(); ++i) {
+      if (!b.inflated(radii[i]).contains(centres[i])) continue;
+      const Vec3 q = closest_point_on_triangle(centres[i], mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+      const double d = (q - centres[i]).norm();
+      if (d <= radii[i]) near[i].emplace_back(d, f);
     }
   }
-  if (candidates.empty())
-    throw InvalidInput(options.name + ": no part of the mesh lies near the control points (first point " +
-                       where(control_points[0]) + ")");
 
   SurfaceCurve curve;
-  // 2. Snap, then keep to the connected part of the surface most control points lie on (CT noise
-  //    islands and facing surfaces across thin gaps must not capture the curve).
-  std::optional<AabbTree> tree;
-  {
-    AabbTree near_tree(mesh, candidates);
-    std::vector<Index> snapped(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto c = near_tree.closest_point(control_points[i]);
-      if (!c || c->distance > options.max_snap_distance)
-        throw InvalidInput(options.name + ": control point " + std::to_string(i) + " " + where(control_points[i]) +
-                           " is " + (c ? std::to_string(c->distance) : std::string("too far")) +
-                           " mm from the surface (limit " + std::to_string(options.max_snap_distance) + " mm)");
-      snapped[i] = c->face;
-    }
-    std::vector<Index> best;
-    std::size_t best_hits = 0;
-    std::vector<char> tried(n, 0);
-    for (std::size_t i = 0; i < n && best_hits * 2 <= n; ++i) {
-      if (tried[i]) continue;
-      std::vector<Index> part = connected_faces(topology, candidate, {snapped[i]});
-      std::sort(part.begin(), part.end());
-      std::size_t hits = 0;
-      for (std::size_t j = 0; j < n; ++j)
-        if (std::binary_search(part.begin(), part.end(), snapped[j])) {
-          ++hits;
-          tried[j] = 1;
-        }
-      if (hits > best_hits) {
-        best_hits = hits;
-        best = std::move(part);
-      }
-    }
-    curve.local_faces = std::move(best);
-    if (curve.local_faces.size() == candidates.size()) tree.emplace(std::move(near_tree));
-  }
-  if (!tree) tree.emplace(mesh, curve.local_faces);
-  double edge_sum = 0.0;
-  for (Index f : curve.local_faces)
-    for (int k = 0; k < 3; ++k)
-      edge_sum += (mesh.positions[mesh.triangles[f][(k + 1) % 3]] - mesh.positions[mesh.triangles[f][k]]).norm();
-  const double mean_edge = edge_sum / (3.0 * static_cast<double>(curve.local_faces.size()));
-
+  // 2. Snap each control point to the closest face that belongs to a surface reaching beyond its
+  //    snap ball: CT noise islands (small components wholly inside the ball) never capture a point.
   for (std::size_t i = 0; i < n; ++i) {
-    const auto c = tree->closest_point(control_points[i]);
-    if (!c || c->distance > options.max_snap_distance)
+    auto& faces = near[i];
+    std::sort(faces.begin(), faces.end());
+    std::vector<Index> ball;
+    ball.reserve(faces.size());
+    for (const auto& [d, f] : faces) ball.push_back(f);
+    std::sort(ball.begin(), ball.end());
+    auto in_ball = [&](Index f) { return std::binary_search(ball.begin(), ball.end(), f); };
+    std::vector<Index> island; // faces known to lie on small pieces
+    Index chosen = kInvalidIndex;
+    for (const auto& [d, f] : faces) {
+      if (std::binary_search(island.begin(), island.end(), f)) continue;
+      // Flood within the ball; reaching a face outside it means a larger surface.
+      std::vector<Index> stack{f};
+      std::unordered_set<Index> piece{f};
+      bool escapes = false;
+      while (!stack.empty() && !escapes) {
+        const Index g = stack.back();
+        stack.pop_back();
+        for (Index k = 0; k < 3 && !escapes; ++k) {
+          const Index o = topology.opposite(3 * g + k);
+          if (o == kInvalidIndex) continue;
+          if (!in_ball(o / 3)) escapes = true;
+          else if (piece.insert(o / 3).second) stack.push_back(o / 3);
+        }
+      }
+      if (escapes) {
+        chosen = f;
+        break;
+      }
+      island.insert(island.end(), piece.begin(), piece.end());
+      std::sort(island.begin(), island.end());
+    }
+    if (chosen == kInvalidIndex)
       throw InvalidInput(options.name + ": control point " + std::to_string(i) + " " + where(control_points[i]) +
-                         " is " + (c ? std::to_string(c->distance) : std::string("too far")) +
-                         " mm from the connected part of the surface the other points lie on (limit " +
-                         std::to_string(options.max_snap_distance) + " mm)");
-    curve.control_points.push_back(c->point);
-    curve.control_faces.push_back(c->face);
+                         " is farther than " + std::to_string(options.max_snap_distance) +
+                         " mm from the surface (only small loose pieces, if anything, are that close)");
+    const Triangle& t = mesh.triangles[chosen];
+    curve.control_points.push_back(
+        closest_point_on_triangle(control_points[i], mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]));
+    curve.control_faces.push_back(chosen);
   }
+  for (const auto& faces : near)
+    for (const auto& [d, f] : faces) curve.local_faces.push_back(f);
+  std::sort(curve.local_faces.begin(), curve.local_faces.end());
+  curve.local_faces.erase(std::unique(curve.local_faces.begin(), curve.local_faces.end()), curve.local_faces.end());
+
+  // Mean edge length around the control points sets the sampling density.
+  double edge_sum = 0.0;
+  std::size_t edge_count = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    for (const auto& [d, f] : near[i])
+      for (int k = 0; k < 3; ++k, ++edge_count)
+        edge_sum += (mesh.positions[mesh.triangles[f][(k + 1) % 3]] - mesh.positions[mesh.triangles[f][k]]).norm();
+  const double mean_edge = edge_sum / static_cast<double>(std::max<std::size_t>(edge_count, 1));
 
   // 3. Dense spline samples, brought onto the surface.
   double polygon_length = 0.0;
@@ -466,7 +429,7 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
   }
   if (curve.samples.size() < 3) throw InvalidInput(options.name + ": the control points enclose no area");
 
-  join_samples(topology, &*tree, options, curve);
+  join_samples(topology, options, curve);
   return curve;
 }
 
@@ -485,7 +448,7 @@ SurfaceCurve join_surface_points(const MeshTopology& topology, const std::vector
   curve.control_faces = faces;
   curve.samples = points;
   curve.sample_faces = faces;
-  join_samples(topology, nullptr, options, curve);
+  join_samples(topology, options, curve);
   return curve;
 }
 
