@@ -175,3 +175,23 @@ TEST(Curve, SplinePassesThroughControlPoints) {
   }
   EXPECT_GT(s.size(), 70u);
 }
+
+TEST(Curve, NoiseIslandNearAControlPointIsIgnored) {
+  // A small loose piece (as CT noise leaves) sits right where the user clicked, 1 mm off the bone:
+  // the point must still snap onto the bone, and the cut be the same as without the piece.
+  const double r = 10.0, polar = std::numbers::pi / 3.0;
+  TriangleMesh mesh = make_icosphere(r, 5);
+  auto pts = circle_on_sphere(r, polar, 12);
+  const Vec3 at = pts[0] * (r + 1.0) / r;
+  const TriangleMesh island = make_icosphere(0.4, 1, at);
+  const Index offset = mesh.vertex_count();
+  mesh.positions.insert(mesh.positions.end(), island.positions.begin(), island.positions.end());
+  for (const Triangle& t : island.triangles) mesh.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  pts[0] = at;
+  const MeshTopology topology(mesh);
+  const SurfaceCurve curve = trace_surface_curve(topology, pts);
+  EXPECT_LT(curve.control_faces[0], make_icosphere(r, 5).face_count()); // on the sphere
+  const CutResult cap = cut_region(topology, curve);
+  const double expected = 2.0 * std::numbers::pi * r * r * (1.0 - std::cos(polar));
+  EXPECT_NEAR(cap.area, expected, 0.015 * expected);
+}
