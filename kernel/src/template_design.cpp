@@ -13,6 +13,7 @@
 #include <cmath>
 #include <deque>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace st {
 
@@ -101,6 +102,29 @@ Index innermost_vertex(const TriangleMesh& mesh, const std::vector<Index>& rim) 
   return last;
 }
 
+// Faces of `mesh` with a corner within about `reach` of a rim vertex or of the centre vertex.
+std::vector<Index> faces_near(const TriangleMesh& mesh, const TriangleMesh& region, const std::vector<Index>& rim,
+                              Index centre, double reach) {
+  auto cell = [reach](const Vec3& p) {
+    const Eigen::Array3d c = (p / reach).array().floor();
+    return (static_cast<std::uint64_t>(static_cast<std::int64_t>(c[0]) & 0x1fffff) << 42) |
+           (static_cast<std::uint64_t>(static_cast<std::int64_t>(c[1]) & 0x1fffff) << 21) |
+           (static_cast<std::uint64_t>(static_cast<std::int64_t>(c[2]) & 0x1fffff));
+  };
+  std::unordered_set<std::uint64_t> cells;
+  auto mark = [&](const Vec3& p) {
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) cells.insert(cell(p + reach * Vec3(dx, dy, dz)));
+  };
+  for (Index v : rim) mark(region.positions[v]);
+  mark(region.positions[centre]);
+  std::vector<Index> faces;
+  for (Index f = 0; f < mesh.face_count(); ++f)
+    if (cells.count(cell(mesh.positions[mesh.triangles[f][0]]))) faces.push_back(f);
+  return faces;
+}
+
 double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
   const double len2 = ab.squaredNorm();
@@ -160,7 +184,11 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   if (auto_step) step = std::max(1, static_cast<int>(std::lround(0.5 * T / (rim_length / static_cast<double>(m)))));
   step = std::clamp<int>(step, 1, std::max<int>(1, static_cast<int>(m / 3)));
   const std::vector<Vec3> normals = vertex_normals(inner.region);
-  const AabbTree offset_tree(offset.surface);
+  // Rays start at the rim and at the region's innermost vertex and go at most 3T: index only the
+  // offset triangles near those (a hash grid of cells 3T wide over the start points).
+  const Index centre = innermost_vertex(inner.region, inner.rim);
+  const Vec3& centre_point = inner.region.positions[centre];
+  const AabbTree offset_tree(offset.surface, faces_near(offset.surface, inner.region, inner.rim, centre, 3.0 * T));
   // Every `step` rim points, a ray along the normal averaged over the step meets the offset.
   auto project = [&](int step, std::vector<Vec3>& points, std::vector<Index>& faces) {
     points.clear();
@@ -184,8 +212,6 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     }
   };
   // A point on the outer sheet above the middle of the inner surface tells the sides apart.
-  const Index centre = innermost_vertex(inner.region, inner.rim);
-  const Vec3& centre_point = inner.region.positions[centre];
   const auto above = offset_tree.first_hit(centre_point, normals[centre], 0.0, 3.0 * T);
   if (!above)
     throw GeometryError("the offset surface is missing above the inner surface near " +
