@@ -108,7 +108,9 @@ public:
         if (h == entry) continue;
         const double su = s[k], sv = s[(k + 1) % 3];
         if ((su >= 0.0) == (sv >= 0.0)) continue;
-        const double t = std::clamp(su / (su - sv), tol::kEdgeCutMargin, 1.0 - tol::kEdgeCutMargin);
+        const double edge = (mesh_.positions[tri[(k + 1) % 3]] - mesh_.positions[tri[k]]).norm();
+        const double margin = std::min(0.5, std::max(tol::kEdgeCutMargin, tol::kMinCutDistance_mm / edge));
+        const double t = std::clamp(su / (su - sv), margin, 1.0 - margin);
         const Vec3 x = (1.0 - t) * mesh_.positions[tri[k]] + t * mesh_.positions[tri[(k + 1) % 3]];
         const double progress = (x - a).dot(dir);
         if (entry != kInvalidIndex || progress > best_progress) {

@@ -277,6 +277,8 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     shell.triangles.push_back(s);
   }
   result.wall_triangles = wall.triangles.size();
+  // STL stores float32: round now, so that the shell checked below is the one a file will hold.
+  for (Vec3& p : shell.positions) p = p.cast<float>().cast<double>();
   result.inner = std::move(inner.region);
   result.outer = std::move(outer->region);
   result.times.connection = seconds_since(t0);

@@ -8,6 +8,10 @@ namespace st::tol {
 /// triangle is made (the cut moves by at most this fraction of an edge).
 inline constexpr double kEdgeCutMargin = 1e-3;
 
+/// ... and never closer than this to them, mm: STL stores float32 (about 6e-5 mm apart at 1 m from
+/// the origin), so points closer than this could merge in the file and leave zero-area triangles.
+inline constexpr double kMinCutDistance_mm = 2e-3;
+
 /// Relative step of the cut-curve samples, as a fraction of the mean edge length of the surface.
 inline constexpr double kCurveSampleSpacing = 0.5;
 
@@ -15,8 +19,8 @@ inline constexpr double kCurveSampleSpacing = 0.5;
 inline constexpr int kMaxCurveSamples = 200000;
 
 /// Grid values this close to the iso value (in cell sizes) are moved off it, so no contour vertex
-/// coincides with a grid node.
-inline constexpr double kIsoValueMargin = 1e-4;
+/// comes closer to a grid node than about this fraction of a cell (no near-duplicate vertices).
+inline constexpr double kIsoValueMargin = 1e-2;
 
 /// Default largest distance of a control point from the surface before it is refused, mm.
 inline constexpr double kMaxSnapDistance_mm = 5.0;
