@@ -4,7 +4,7 @@ JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3
 DEMO_CASE ?= examples/cases/maxilla-implants.json
 
-.PHONY: all deps build test test-main test-sanitize test-fuzz demo bench clean
+.PHONY: all deps build test test-main test-sanitize test-fuzz demo bench bench-references clean
 
 all: build
 
@@ -41,6 +41,13 @@ demo: build
 
 bench: build
 	/usr/bin/python3 bench/run_bench.py --build $(BUILD)
+
+# The same benchmark with the off-the-shelf reference chain (VTK + OpenVDB from Debian) side by side.
+bench-references: build
+	@ST_EXTRA_PACKAGES="libvtk9-dev libopenvdb-dev libtbb-dev libboost-iostreams-dev" scripts/setup.sh
+	cmake -S . -B build-ref $(CMAKE_FLAGS) -DST_BENCH_REFERENCES=ON -DST_BUILD_TESTS=OFF
+	cmake --build build-ref -j$(JOBS) --target reference-chain
+	/usr/bin/python3 bench/run_bench.py --build $(BUILD) --reference build-ref/reference-chain --write
 
 clean:
 	rm -rf $(BUILD) build-asan build-fuzz out

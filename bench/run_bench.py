@@ -63,6 +63,18 @@ def refine(path_in, path_out, levels):
     return len(F)
 
 
+def run_reference(ref, case_path, runs, workdir):
+    out = os.path.join(workdir, "ref.json")
+    p = subprocess.run([ref, case_path, "--runs", str(runs), "--json", out], capture_output=True, text=True)
+    if p.returncode != 0 or not os.path.exists(out):
+        return None, (p.stderr or p.stdout).strip()[-200:]
+    rep = json.load(open(out))
+    os.remove(out)
+    if rep.get("failed"):
+        return None, rep["failed"]
+    return rep, None
+
+
 def run_case(tool, case_path, runs, workdir):
     reports = []
     for i in range(runs):
@@ -83,17 +95,22 @@ def main():
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--write", action="store_true")
     ap.add_argument("--no-scaled", action="store_true")
+    ap.add_argument("--reference", help="path of reference-chain (VTK + OpenVDB) to run side by side")
     args = ap.parse_args()
     global BUILD
     BUILD = args.build
     tool = os.path.join(args.build, "surgical-template")
     results = []
+    references = []
     with tempfile.TemporaryDirectory() as work:
         for name in sorted(os.listdir(CASES)):
             if name.endswith(".json"):
                 r, err = run_case(tool, os.path.join(CASES, name), args.runs, work)
                 results.append((name[:-5], r, err))
                 print(name, "done" if r else err, file=sys.stderr)
+                if args.reference:
+                    ref, ref_err = run_reference(args.reference, os.path.join(CASES, name), args.runs, work)
+                    references.append((name[:-5], ref, ref_err))
         if not args.no_scaled:
             for name, levels in SCALED:
                 case = json.load(open(os.path.join(CASES, name)))
@@ -105,6 +122,9 @@ def main():
                 json.dump(case, open(cpath, "w"))
                 r, err = run_case(tool, cpath, args.runs, work)
                 results.append((f"{name[:-5]} x{4 ** levels} ({n / 1e6:.2f}M)", r, err))
+                if args.reference:
+                    ref, ref_err = run_reference(args.reference, cpath, args.runs, work)
+                    references.append((f"{name[:-5]} x{4 ** levels} ({n / 1e6:.2f}M)", ref, ref_err))
                 print(name, levels, "done" if r else err, file=sys.stderr)
 
     lines = ["| case | input triangles | inner triangles | rim points | " +
@@ -118,6 +138,14 @@ def main():
         lines.append(f"| {name} | {rep['input']['triangles']:,} | {rep['counts']['triangles_of_inner_surface']:,} | "
                      f"{rep['counts']['edge_points_of_inner_surface']:,} | " +
                      " | ".join(f"{r['times'][k]:.3f}" for k, _ in ROWS) + f" | {r['peak_mb']:.0f} |")
+    for name, ref, err in references:
+        if ref is None:
+            lines.append(f"| VTK+OpenVDB: {name} | failed: {err} |")
+            continue
+        valid = "valid" if ref.get("solid", {}).get("valid") else "INVALID shell"
+        lines.append(f"| VTK+OpenVDB: {name} ({valid}) | {ref.get('bone_triangles', 0):,} | "
+                     f"{ref.get('counts', {}).get('inner_triangles', 0):,} | | " +
+                     " | ".join(f"{ref['times'].get(k, float('nan')):.3f}" for k, _ in ROWS) + " | |")
     for name, (tris, secs) in PAPER.items():
         lines.append(f"| paper: {name} | {tris:,} | | | " + " | ".join(f"{s:.3f}" for s in secs) + " | |")
     cpu = ""

@@ -12,6 +12,10 @@ packages=(
   clang libclang-rt-14-dev
 )
 
+# Optional extras (e.g. the benchmark's reference libraries), space separated.
+read -r -a extra <<< "${ST_EXTRA_PACKAGES:-}"
+packages+=("${extra[@]}")
+
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
