@@ -112,7 +112,8 @@ void bind_template(py::module_& m) {
   m.def(
       "design_template",
       [](const Points& v, const Faces& f, const Points& boundary_points, double thickness, double clearance,
-         double resolution, int sampling_step, const py::object& inside, double max_snap_distance, bool check) {
+         double resolution, int sampling_step, const py::object& inside, double max_snap_distance, bool check,
+         bool simplify_outer) {
         const TriangleMesh bone = to_mesh(v, f, "bone");
         TemplateOptions o;
         o.boundary_points = to_points(boundary_points, "boundary_points");
@@ -123,6 +124,7 @@ void bind_template(py::module_& m) {
         o.sampling_step = sampling_step;
         o.max_snap_distance = max_snap_distance;
         o.check = check;
+        o.simplify_outer = simplify_outer;
         TemplateResult r;
         {
           py::gil_scoped_release release;
@@ -165,7 +167,7 @@ void bind_template(py::module_& m) {
       py::arg("vertices"), py::arg("triangles"), py::arg("boundary_points"), py::arg("thickness"),
       py::arg("clearance") = 0.0, py::arg("resolution") = 0.0, py::arg("sampling_step") = 0,
       py::arg("inside") = py::none(), py::arg("max_snap_distance") = tol::kMaxSnapDistance_mm,
-      py::arg("check") = true,
+      py::arg("check") = true, py::arg("simplify_outer") = false,
       "Designs the initial template (closed shell) on a bone mesh. Returns a dict with 'shell', 'inner', "
       "'outer' (each (vertices, triangles)), 'curve', 'counts', 'times' (s), 'solid' and 'fit'.");
 }

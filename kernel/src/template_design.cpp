@@ -2,6 +2,7 @@
 
 #include "st/aabb_tree.h"
 #include "st/cut.h"
+#include "st/decimate.h"
 #include "st/errors.h"
 #include "st/offset.h"
 #include "st/ruled_surface.h"
@@ -255,41 +256,78 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   }
   result.sampling_step = step;
   result.outer_rim_points = outer->rim.size();
+  TriangleMesh contoured_outer; // kept to fall back on if the simplified shell fails its check
+  std::vector<Index> contoured_rim;
+  // The contour has a few small, often sliver, triangles per grid cell: simplify the outer surface
+  // to about the cell size, within a tenth of a cell, keeping its rim exactly (the wall joins it).
+  if (options.simplify_outer) {
+    t0 = Clock::now();
+    DecimateOptions d;
+    d.target_edge_length = 2.0 * offset.cell_size;
+    d.max_error = 0.1 * offset.cell_size;
+    d.keep_border = true;
+    // The rim and its first ring stay as contoured, so the triangles the wall meets keep their shape.
+    d.frozen.assign(outer->region.vertex_count(), 0);
+    for (Index v : outer->rim) d.frozen[v] = 1;
+    for (const Triangle& t : outer->region.triangles)
+      if (d.frozen[t[0]] == 1 || d.frozen[t[1]] == 1 || d.frozen[t[2]] == 1)
+        for (Index v : t) d.frozen[v] = d.frozen[v] ? d.frozen[v] : 2;
+    DecimateResult simpler = decimate(outer->region, d);
+    std::unordered_map<Index, Index> new_index;
+    for (Index v = 0; v < simpler.vertex_source.size(); ++v)
+      if (simpler.vertex_source[v] != kInvalidIndex) new_index.emplace(simpler.vertex_source[v], v);
+    contoured_outer = outer->region;
+    contoured_rim = outer->rim;
+    for (Index& v : outer->rim) v = new_index.at(v);
+    outer->region = std::move(simpler.mesh);
+    result.times.outer_segmentation += seconds_since(t0);
+  }
 
   // 5. Connection: the ruled wall, and the shell.
   t0 = Clock::now();
   std::vector<Vec3> p_loop, q_loop;
   for (Index v : inner.rim) p_loop.push_back(inner.region.positions[v]);
   for (Index v : outer->rim) q_loop.push_back(outer->region.positions[v]);
-  const Index n_inner = inner.region.vertex_count();
-  TriangleMesh& shell = result.shell;
-  shell.positions = inner.region.positions;
-  shell.positions.insert(shell.positions.end(), outer->region.positions.begin(), outer->region.positions.end());
-  for (const Triangle& t : inner.region.triangles) shell.triangles.push_back({t[0], t[2], t[1]});
-  for (const Triangle& t : outer->region.triangles)
-    shell.triangles.push_back({t[0] + n_inner, t[1] + n_inner, t[2] + n_inner});
-  // The wall uses loop positions 0..m-1 / 0..n-1; map them to shell vertex indices afterwards.
+  // The wall uses loop positions 0..m-1 / 0..n-1, mapped to shell vertices when assembling.
   const RuledResult wall = ruled_surface(p_loop, q_loop, 0, static_cast<Index>(m));
-  for (const Triangle& t : wall.triangles) {
-    Triangle s{};
-    for (int k = 0; k < 3; ++k)
-      s[k] = t[k] < m ? inner.rim[t[k]] : outer->rim[t[k] - m] + n_inner;
-    shell.triangles.push_back(s);
-  }
   result.wall_triangles = wall.triangles.size();
-  // STL stores float32: round now, so that the shell checked below is the one a file will hold.
-  for (Vec3& p : shell.positions) p = p.cast<float>().cast<double>();
-  result.inner = std::move(inner.region);
-  result.outer = std::move(outer->region);
+  auto assemble = [&](const TriangleMesh& outer_region, const std::vector<Index>& outer_rim) {
+    const Index n_inner = inner.region.vertex_count();
+    TriangleMesh shell;
+    shell.positions = inner.region.positions;
+    shell.positions.insert(shell.positions.end(), outer_region.positions.begin(), outer_region.positions.end());
+    for (const Triangle& t : inner.region.triangles) shell.triangles.push_back({t[0], t[2], t[1]});
+    for (const Triangle& t : outer_region.triangles)
+      shell.triangles.push_back({t[0] + n_inner, t[1] + n_inner, t[2] + n_inner});
+    for (const Triangle& t : wall.triangles) {
+      Triangle s{};
+      for (int k = 0; k < 3; ++k) s[k] = t[k] < m ? inner.rim[t[k]] : outer_rim[t[k] - m] + n_inner;
+      shell.triangles.push_back(s);
+    }
+    // STL stores float32: round now, so that the shell checked is the one a file will hold.
+    for (Vec3& p : shell.positions) p = p.cast<float>().cast<double>();
+    return shell;
+  };
+  result.shell = assemble(outer->region, outer->rim);
   result.times.connection = seconds_since(t0);
   result.times.total = result.times.inner_segmentation + result.times.offset + result.times.outer_points +
                        result.times.outer_segmentation + result.times.connection;
 
   if (options.check) {
     t0 = Clock::now();
-    result.solid = check_solid(shell);
+    result.solid = check_solid(result.shell);
+    if (!result.solid.valid() && !contoured_rim.empty()) {
+      // The simplification is checked, not trusted: fall back to the outer surface as contoured.
+      result.shell = assemble(contoured_outer, contoured_rim);
+      outer->region = std::move(contoured_outer);
+      result.solid = check_solid(result.shell);
+    }
     if (!result.solid.valid())
       throw GeometryError("the template shell failed its check: " + result.solid.summary());
+  }
+  result.inner = std::move(inner.region);
+  result.outer = std::move(outer->region);
+  if (options.check) {
     result.fit.inner_to_bone = distances_to_surface(result.inner.positions, bone_region);
     result.fit.outer_to_inner = distances_to_surface(result.outer.positions, result.inner);
     DistanceStats rim;

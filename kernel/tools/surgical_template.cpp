@@ -25,8 +25,9 @@ namespace {
 
 constexpr const char* kUsage =
     "usage:\n"
-    "  surgical-template design CASE.json [-o OUT.stl] [--report REPORT.json]\n"
+    "  surgical-template design CASE.json [-o OUT.stl] [--report REPORT.json] [--simplify]\n"
     "      design the template of a case file; writes the STL to -o, else to the case's \"output\"\n"
+    "      --simplify: simplify the outer surface (about 5x fewer triangles, slower)\n"
     "  surgical-template check MESH\n"
     "      report whether a mesh is a closed, 2-manifold, oriented solid without self-intersections\n";
 
@@ -53,10 +54,12 @@ void write_text_atomically(const std::string& path, const std::string& text) {
 
 int design(int argc, char** argv) {
   std::string case_path, out_path, report_path;
+  bool simplify = false;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if ((a == "-o" || a == "--output") && i + 1 < argc) out_path = argv[++i];
     else if (a == "--report" && i + 1 < argc) report_path = argv[++i];
+    else if (a == "--simplify") simplify = true;
     else if (!a.empty() && a[0] != '-' && case_path.empty()) case_path = a;
     else throw st::InvalidInput("unexpected argument '" + a + "'\n" + kUsage);
   }
@@ -86,6 +89,7 @@ int design(int argc, char** argv) {
   o.clearance = c.clearance;
   o.resolution = c.resolution.value_or(0.0);
   o.sampling_step = c.sampling_step.value_or(0);
+  o.simplify_outer = simplify;
   const st::TemplateResult r = st::design_template(bone, o);
 
   const std::filesystem::path out_file(out_path);

@@ -183,3 +183,20 @@ INSTANTIATE_TEST_SUITE_P(Examples, ExampleCase, ::testing::ValuesIn(example_case
                              if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
                            return n;
                          });
+
+TEST(Template, SimplifiedOuterSurfaceKeepsTheShellValidWithFarFewerTriangles) {
+  const CaseFile c = read_case(examples_dir() + "/cases/vertebra-pedicle.json");
+  const TriangleMesh bone = read_mesh(c.bone);
+  TemplateOptions o;
+  o.boundary_points = c.boundary_points;
+  o.inside = c.inside;
+  o.thickness = c.thickness;
+  const TemplateResult plain = design_template(bone, o);
+  o.simplify_outer = true;
+  const TemplateResult simple = design_template(bone, o);
+  expect_valid_solid(simple.shell);
+  EXPECT_LT(simple.shell.face_count(), plain.shell.face_count() / 3);
+  EXPECT_NEAR(simple.solid.volume, plain.solid.volume, 0.01 * plain.solid.volume);
+  EXPECT_GT(simple.fit.outer_to_inner.min, c.thickness - simple.resolution);
+  EXPECT_LT(simple.fit.outer_to_inner.max, c.thickness + simple.resolution);
+}
