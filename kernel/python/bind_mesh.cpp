@@ -73,12 +73,7 @@ void bind_mesh(py::module_& m) {
           py::gil_scoped_release release;
           s = distances_to_surface(p, mesh);
         }
-        py::dict d;
-        d["min"] = s.min;
-        d["max"] = s.max;
-        d["mean"] = s.mean;
-        d["count"] = s.count;
-        return d;
+        return stats_dict(s);
       },
       py::arg("points"), py::arg("vertices"), py::arg("triangles"),
       "Min/max/mean exact distance of points to a triangle surface, mm.");

@@ -13,19 +13,6 @@ using namespace st::py_convert;
 
 py::dict solid_dict(const SolidReport& r);
 
-namespace {
-
-py::dict stats_dict(const DistanceStats& s) {
-  py::dict d;
-  d["min"] = s.min;
-  d["max"] = s.max;
-  d["mean"] = s.mean;
-  d["count"] = s.count;
-  return d;
-}
-
-} // namespace
-
 void bind_template(py::module_& m) {
   m.def(
       "trace_surface_curve",

@@ -4,6 +4,7 @@
 
 #include "st/errors.h"
 #include "st/mesh.h"
+#include "st/validate.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -63,6 +64,15 @@ inline py::array_t<std::int32_t> from_triangles(const std::vector<Triangle>& t) 
 
 inline py::tuple from_mesh(const TriangleMesh& m) {
   return py::make_tuple(from_points(m.positions), from_triangles(m.triangles));
+}
+
+inline py::dict stats_dict(const DistanceStats& s) {
+  py::dict d;
+  d["min"] = s.min;
+  d["max"] = s.max;
+  d["mean"] = s.mean;
+  d["count"] = s.count;
+  return d;
 }
 
 inline std::optional<Vec3> to_optional_point(const py::object& o, const std::string& what) {

@@ -1,23 +1,18 @@
 #include "st/cut.h"
 
 #include "st/aabb_tree.h"
+#include "detail/format.h"
 #include "st/errors.h"
 
 #include <algorithm>
 #include <deque>
-#include <sstream>
 #include <unordered_map>
 
 namespace st {
 
 namespace {
 
-std::string where(const Vec3& p) {
-  std::ostringstream s;
-  s.precision(2);
-  s << std::fixed << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return s.str();
-}
+using detail::where;
 
 std::uint64_t edge_key(Index a, Index b) {
   if (a > b) std::swap(a, b);

@@ -1,23 +1,18 @@
 #include "st/surface_curve.h"
 
 #include "st/aabb_tree.h"
+#include "detail/format.h"
 #include "st/errors.h"
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <unordered_set>
 
 namespace st {
 
 namespace {
 
-std::string where(const Vec3& p) {
-  std::ostringstream s;
-  s.precision(2);
-  s << std::fixed << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return s.str();
-}
+using detail::where;
 
 Vec3 unit_normal(const TriangleMesh& mesh, Index f) {
   const Vec3 n = triangle_normal(mesh, f);

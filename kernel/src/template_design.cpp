@@ -3,6 +3,7 @@
 #include "st/aabb_tree.h"
 #include "st/cut.h"
 #include "st/decimate.h"
+#include "detail/format.h"
 #include "st/errors.h"
 #include "st/offset.h"
 #include "st/ruled_surface.h"
@@ -216,8 +217,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   const auto above = offset_tree.first_hit(centre_point, normals[centre], 0.0, 3.0 * T);
   if (!above)
     throw GeometryError("the offset surface is missing above the inner surface near " +
-                        std::to_string(centre_point.x()) + ", " + std::to_string(centre_point.y()) + ", " +
-                        std::to_string(centre_point.z()));
+                        detail::where(centre_point));
   result.times.outer_points = seconds_since(t0);
 
   // 4. Outer surface: the offset cut along those points, keeping the side above the inner surface.

@@ -1,0 +1,19 @@
+#pragma once
+// Message formatting shared by the kernel's sources.
+
+#include "st/mesh.h"
+
+#include <sstream>
+#include <string>
+
+namespace st::detail {
+
+/// "(x, y, z)" with two decimals (mm), for messages that say where something is.
+inline std::string where(const Vec3& p) {
+  std::ostringstream s;
+  s.precision(2);
+  s << std::fixed << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return s.str();
+}
+
+} // namespace st::detail
