@@ -17,21 +17,24 @@
 #include <utility>
 #include <vector>
 
-
 namespace st {
 namespace {
 
 // ---- sparse grid layout ---------------------------------------------------------------------------
-// A node is addressed by stored indices (I, J, K) = grid indices + kIndexOffset, each below 2^20, so
-// a node packs into 60 bits and a grid edge (node + one of 7 directions) into 63 bits. Nodes live in
-// 8x8x8 blocks; inside a block, local index l = x + 8y + 64z, and the 64 nodes of one z-slice form
-// one 64-bit mask (bit x + 8y), so that growing the band and finding the contoured cubes are bit
-// operations on 8 words per block.
+// A node is addressed by stored indices (I, J, K) = grid indices + kIndexOffset, each below 2^20.
+// Nodes live in 8x8x8 blocks, found by a hash map from the block coordinates (I, J, K) >> 3 and
+// linked to their 26 neighbours; a node is referred to by 512 * block index + local index, local
+// index l = x + 8y + 64z. The 64 nodes of one z-slice form one 64-bit mask (bit x + 8y), so that
+// growing the band and finding the contoured cubes are bit operations on 8 words per block.
 
 constexpr int kBlockNodes = 512;
 constexpr std::int64_t kIndexOffset = std::int64_t{1} << 19;
 constexpr std::uint64_t kColumn0 = 0x0101010101010101ULL; // slice bits with x == 0
 constexpr std::uint64_t kColumn7 = 0x8080808080808080ULL; // slice bits with x == 7
+
+/// A node is repaired when its distance exceeds an upper bound shown by a neighbour by more than
+/// this many cell sizes (float storage makes smaller differences meaningless).
+constexpr double kRepairTolerance = 1e-4;
 
 /// Index of the block offset (ox, oy, oz) in {-1, 0, 1}^3 in a block's neighbour table; 13 is itself
 /// and 26 - s is the opposite of s.
@@ -64,6 +67,8 @@ struct Block {
   SliceMasks pending;                            // candidates of the layer being built
   SliceMasks front;                              // nodes that spread in the next layer
   SliceMasks spreading;                          // nodes that spread (all layers)
+  SliceMasks anchoring;                          // nodes whose cubes are contoured (see contour())
+  SliceMasks queued;                             // nodes waiting for repair
   std::array<std::int32_t, 27> neighbours;       // block indices, -1 where absent
   std::array<std::int64_t, 3> coord;             // block coordinates (stored index >> 3)
   std::uint32_t pending_stamp;                   // layer in which the block was listed for candidates
@@ -259,7 +264,12 @@ struct Patch {
   std::vector<Index> edge_face_offsets, edge_faces;     // triangles along each edge (rows)
   std::vector<std::uint8_t> border_edge;   // 1 for edges used by one triangle
   std::vector<std::uint8_t> border_vertex; // 1 for vertices of such edges
-  std::vector<std::uint8_t> border_sides;  // per triangle, bit k: edge k is a border edge
+  std::vector<std::array<float, 3>> side_slack; // per triangle and edge k: how far outside the
+                                                // edge's plane (in units of the distance) the
+                                                // points whose closest point is on the edge or its
+                                                // end points can lie: 1 on the border, else the
+                                                // sine of the largest angle between this triangle's
+                                                // normal and those around the edge's end points
   double area = 0.0;
   double border_length = 0.0;       // total length of edges used by one triangle
 
@@ -336,12 +346,10 @@ Patch build_patch(const TriangleMesh& mesh, bool with_pseudo_normals) {
       patch.border_length += edge_length[e];
       patch.border_edge[e] = 1;
     }
-  patch.border_sides.assign(nf, 0);
   for (std::size_t c = 0; c < 3 * nf; ++c)
     if (patch.border_edge[patch.edge_of[c]]) {
       patch.border_vertex[mesh.triangles[c / 3][c % 3]] = 1;
       patch.border_vertex[mesh.triangles[c / 3][(c + 1) % 3]] = 1;
-      patch.border_sides[c / 3] |= static_cast<std::uint8_t>(1u << (c % 3));
     }
 
   // Compressed rows: vertex -> triangles, edge -> triangles.
@@ -357,6 +365,25 @@ Patch build_patch(const TriangleMesh& mesh, bool with_pseudo_normals) {
              patch.vertex_face_offsets, patch.vertex_faces);
   build_rows(edge_uses.size(), [&](std::size_t c) { return static_cast<Index>(patch.edge_of[c]); },
              patch.edge_face_offsets, patch.edge_faces);
+
+  patch.side_slack.assign(nf, {1.0f, 1.0f, 1.0f});
+  for (std::size_t t = 0; t < nf; ++t) {
+    if (patch.triangles[t].degenerate) continue;
+    const Vec3& n = patch.face_normals[t];
+    std::array<double, 3> lowest{}; // smallest cosine to a normal around each corner
+    for (int k = 0; k < 3; ++k) {
+      const Index v = mesh.triangles[t][k];
+      double c = 1.0;
+      for (Index j = patch.vertex_face_offsets[v]; j < patch.vertex_face_offsets[v + 1]; ++j)
+        if (!patch.triangles[patch.vertex_faces[j]].degenerate) c = std::min(c, n.dot(patch.face_normals[patch.vertex_faces[j]]));
+      lowest[k] = c;
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (patch.border_edge[patch.edge_of[3 * t + k]]) continue;
+      const double c = std::min(lowest[k], lowest[(k + 1) % 3]);
+      patch.side_slack[t][k] = c <= 0.0 ? 1.0f : static_cast<float>(std::sqrt(std::max(0.0, 1.0 - c * c)));
+    }
+  }
 
   if (with_pseudo_normals) {
     patch.edge_normals.assign(edge_uses.size(), Vec3::Zero());
@@ -470,7 +497,6 @@ void parallel_for(std::size_t n, std::size_t grain, const Work& work) {
   for (std::thread& t : pool) t.join();
 }
 
-
 // ---- the distance band ----------------------------------------------------------------------------
 
 struct BandParams {
@@ -479,8 +505,7 @@ struct BandParams {
   double iso = 1.0;
   double limit = 1.0;       // nodes up to this distance spread
   double seed_radius = 1.0; // exact distances within this radius of each triangle
-  double margin = 0.0;      // front_only: how far behind the patch a node whose closest point is on
-                            // the patch's border may lie and still spread (the others: not at all)
+  double margin = 0.0;      // front_only: how far behind the border a node may lie and anchor
   bool front_only = true;
   double node_cap = 0.0;    // refuse to allocate more block nodes than this
   std::size_t expected_nodes = 0;
@@ -500,11 +525,11 @@ public:
     blocks_.reserve(expected_blocks(params));
   }
 
-  /// Exact distances within seed_radius of every triangle.
+  /// Exact distances for the nodes within seed_radius of the patch.
   void seed();
   /// Closest-point propagation, one layer of 26-neighbours at a time, up to the limit.
   void grow();
-  /// Marching tetrahedra on the complete cubes.
+  /// Marching tetrahedra on the contoured cubes.
   [[nodiscard]] Contour contour() const;
   [[nodiscard]] std::size_t computed_nodes() const { return computed_nodes_; }
 
@@ -517,14 +542,22 @@ private:
     float dist;
     std::int32_t closest;
     bool spreads;
+    bool anchors;
+    std::uint32_t suspects; // neighbours (bit k: offset k) whose distance this node shows to be wrong
   };
 
-  /// Per-thread memory of evaluate_block(): a stamp per patch triangle (and one for "none") marks
-  /// the triangles already evaluated for the current node; the apron holds the block's neighbourhood.
+  struct Closest {
+    Nearest nearest;
+    std::int32_t tri = -1;
+  };
+
+  /// Per-thread memory of evaluate_block(): a stamp per patch triangle marks the triangles already
+  /// evaluated for the current node; the aprons hold the block's neighbourhood.
   struct Scratch {
     std::vector<std::uint32_t> stamp;
     std::uint32_t current = 0;
     std::array<std::int32_t, 1000> apron{};
+    std::array<float, 1000> apron_dist{};
   };
 
   [[nodiscard]] Vec3 node_position(std::int64_t i, std::int64_t j, std::int64_t k) const {
@@ -548,12 +581,15 @@ private:
   [[nodiscard]] bool block_may_hold_seeds(std::size_t t, const std::array<std::int64_t, 3>& block) const;
   void rasterize(std::size_t t, std::int32_t b);
   [[nodiscard]] bool spreads(const Nearest& nearest, std::int32_t t, double d) const;
+  [[nodiscard]] bool anchors(const Nearest& nearest, std::int32_t t, double d) const;
   void spread_front(std::int32_t b, std::uint32_t layer, std::vector<std::int32_t>& touched);
   void deposit(std::int32_t target, const std::uint64_t* masks, int first, int count, std::uint32_t layer,
                std::vector<std::int32_t>& touched);
   void evaluate_block(std::int32_t b, const std::vector<std::uint32_t>& nodes, std::size_t begin,
                       std::size_t end, Scratch& scratch, std::vector<Evaluation>& out) const;
-  void fill_apron(std::int32_t b, int y0, int y1, int z0, int z1, std::array<std::int32_t, 1000>& apron) const;
+  void fill_apron(std::int32_t b, int y0, int y1, int z0, int z1, Scratch& scratch) const;
+  [[nodiscard]] Closest closest_among(const Vec3& x, const std::int32_t* candidates, int count, Scratch& scratch) const;
+  void repair(std::vector<std::uint32_t>& queue, std::uint32_t layer);
 
   const Patch& patch_;
   BandParams p_;
@@ -585,6 +621,8 @@ std::int32_t DistanceBand::find_or_create_block(std::int64_t bx, std::int64_t by
   blk.pending.fill(0);
   blk.front.fill(0);
   blk.spreading.fill(0);
+  blk.anchoring.fill(0);
+  blk.queued.fill(0);
   blk.neighbours.fill(-1);
   blk.coord = {bx, by, bz};
   blk.pending_stamp = 0;
@@ -609,14 +647,23 @@ std::int32_t DistanceBand::neighbour_or_create(std::int32_t b, int slot) {
   return find_or_create_block(c[0] + slot % 3 - 1, c[1] + (slot / 3) % 3 - 1, c[2] + slot / 9 - 1);
 }
 
+// front_only. Behind the patch (the offset from the closest point against the pseudo-normal of
+// the closest feature), a node whose closest point is inside the patch neither spreads nor
+// anchors a contoured cube, so no back sheet is made. Around the border, nodes spread in the whole
+// band, so that where two parts of the border face each other each part's distance reaches the
+// other's side; they anchor contoured cubes down to `margin` behind the border only, which is where
+// the rounded rim ends.
 bool DistanceBand::spreads(const Nearest& nearest, std::int32_t t, double d) const {
   if (d > p_.limit) return false;
+  if (!p_.front_only || patch_.on_border(t, nearest.feature)) return true;
+  return nearest.offset.dot(patch_.pseudo_normal(t, nearest.feature)) >= 0.0;
+}
+
+bool DistanceBand::anchors(const Nearest& nearest, std::int32_t t, double d) const {
+  if (d > p_.limit) return false;
   if (!p_.front_only) return true;
-  // Behind the patch (offset against the pseudo-normal of the closest feature) a node spreads only
-  // around the border, down to `margin` below it, to make the rounded rim.
   const double margin = patch_.on_border(t, nearest.feature) ? p_.margin : 0.0;
-  if (d <= margin) return true;
-  return nearest.offset.dot(patch_.pseudo_normal(t, nearest.feature)) >= -margin;
+  return d <= margin || nearest.offset.dot(patch_.pseudo_normal(t, nearest.feature)) >= -margin;
 }
 
 // ---- seeding ------------------------------------------------------------------------------------------
@@ -651,12 +698,14 @@ bool DistanceBand::block_may_hold_seeds(std::size_t t, const std::array<std::int
   return true;
 }
 
-/// Exact distances from triangle t to the nodes of block b within the seed radius that lie over the
-/// triangle, i.e. inside its three edge planes (outside a border edge: within r of it): columns
-/// along the axis closest to the normal, each cut to the slab |n.(x - a)| <= r. The nodes left out
-/// lie over a convex edge or vertex between two triangles; the first layer of propagation gives
-/// them their exact distance (their neighbours' triangles meet at that edge or vertex, whose ring
-/// is then evaluated). This keeps each node from being evaluated by all the triangles around it.
+/// Exact distances from triangle t to the nodes of block b within the seed radius r whose closest
+/// point can be on t: over the triangle, or outside an edge by at most r times its side_slack
+/// (a node at distance d whose closest point is on an edge or vertex of t lies outside t's edge
+/// plane by at most d times the sine of the angle between t's normal and its own direction, which
+/// lies in the cone of the normals around that vertex or edge). Columns run along the axis closest
+/// to the normal, each cut to the slab |n.(x - a)| <= r. On a smooth patch this evaluates a node
+/// with one or two triangles instead of all within r of it, and every node within r still gets
+/// the exact distance.
 void DistanceBand::rasterize(std::size_t t, std::int32_t b) {
   const TriangleGeometry& g = patch_.triangles[t];
   const double r = p_.seed_radius;
@@ -682,7 +731,7 @@ void DistanceBand::rasterize(std::size_t t, std::int32_t b) {
   std::array<double, 3> slack{};        // how far outside edge k a node may be
   std::array<double, 3> column_slack{}; // the same for a column's point on the plane
   for (int k = 0; k < 3; ++k) {
-    slack[k] = (patch_.border_sides[t] >> k) & 1 ? r : 0.0;
+    slack[k] = r * patch_.side_slack[t][k] + 1e-6 * h;
     column_slack[k] = slack[k] + half * std::abs(side[k][w]);
   }
 
@@ -728,6 +777,10 @@ void DistanceBand::rasterize(std::size_t t, std::int32_t b) {
           blk.front[l >> 6] &= ~bit;
           blk.spreading[l >> 6] &= ~bit;
         }
+        if (anchors(near, static_cast<std::int32_t>(t), d))
+          blk.anchoring[l >> 6] |= bit;
+        else
+          blk.anchoring[l >> 6] &= ~bit;
       }
     }
   }
@@ -826,16 +879,78 @@ void DistanceBand::spread_front(std::int32_t b, std::uint32_t layer, std::vector
     }
 }
 
-// Closest-point propagation: a node evaluates exactly the closest triangles of its computed
-// neighbours. When the nearest of them is reached at a vertex or an edge, the other triangles
-// around that vertex or edge are evaluated too (ties at a vertex would otherwise hide them; this
-// matters at the patch's border, where whole regions of nodes share one closest vertex).
-// The neighbours are read from a copy of the block with a one-node apron, so that the 26 reads
-// have fixed offsets; stamps per triangle skip repeated candidates without a search.
+// Closest-point propagation. A node takes the nearest of the closest triangles of its computed
+// neighbours, each evaluated exactly at the node (a triangle whose plane is farther than the best so
+// far is skipped); when that nearest is reached at a vertex or an edge, the other triangles around
+// the vertex or edge are evaluated too (neighbours that tie at a vertex name any one of its
+// triangles, which would hide the others).
+DistanceBand::Closest DistanceBand::closest_among(const Vec3& x, const std::int32_t* candidates, int count,
+                                                  Scratch& scratch) const {
+  if (++scratch.current == 0) {
+    std::fill(scratch.stamp.begin(), scratch.stamp.end(), 0);
+    scratch.current = 1;
+  }
+  const std::uint32_t current = scratch.current;
+  Closest best;
+  best.nearest.squared = std::numeric_limits<double>::infinity();
+  auto consider = [&](std::int32_t t) {
+    if (scratch.stamp[t] == current) return;
+    scratch.stamp[t] = current;
+    const TriangleGeometry& g = patch_.triangles[t];
+    const double plane_distance = g.normal.dot(x) - g.plane; // a lower bound of the distance
+    if (plane_distance * plane_distance > best.nearest.squared) return;
+    const Nearest n = nearest_on_triangle(g, x);
+    if (n.squared < best.nearest.squared || (n.squared == best.nearest.squared && t < best.tri)) {
+      best.nearest = n;
+      best.tri = t;
+    }
+  };
+  for (int k = 0; k < count; ++k) consider(candidates[k]);
+  for (int round = 0; round < 8 && best.tri >= 0 && best.nearest.feature != kFace; ++round) {
+    const std::int32_t t = best.tri;
+    const int feature = best.nearest.feature;
+    const bool vertex = feature <= kVertex2;
+    const std::size_t row = vertex ? patch_.mesh->triangles[t][feature - kVertex0]
+                                   : static_cast<std::size_t>(patch_.edge_of[3 * t + (feature - kEdge01)]);
+    const std::vector<Index>& offsets = vertex ? patch_.vertex_face_offsets : patch_.edge_face_offsets;
+    const std::vector<Index>& faces = vertex ? patch_.vertex_faces : patch_.edge_faces;
+    for (Index k = offsets[row]; k < offsets[row + 1]; ++k) consider(static_cast<std::int32_t>(faces[k]));
+    if (best.tri == t && best.nearest.feature == feature) break;
+  }
+  return best;
+}
+
+/// The 26 neighbour offsets (dx, dy, dz in -1..1, not all 0), dx fastest, and their index
+/// offsets in a 10x10x10 apron.
+struct NeighbourOffsets {
+  std::array<std::array<int, 3>, 26> step{};
+  std::array<int, 26> apron{};
+  constexpr NeighbourOffsets() {
+    int k = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          if (dx != 0 || dy != 0 || dz != 0) {
+            step[k] = {dx, dy, dz};
+            apron[k] = dx + 10 * dy + 100 * dz;
+            ++k;
+          }
+  }
+  [[nodiscard]] Vec3 vector(int k, double h) const { return h * Vec3(step[k][0], step[k][1], step[k][2]); }
+};
+
+constexpr NeighbourOffsets kNeighbours;
+constexpr std::array<int, 6> kFaceNeighbours = {4, 10, 12, 13, 15, 21}; // indices of the 6 face neighbours
+static_assert(kNeighbours.step[4][2] == -1 && kNeighbours.step[21][2] == 1 && kNeighbours.step[12][0] == -1 &&
+              kNeighbours.step[13][0] == 1 && kNeighbours.step[10][1] == -1 && kNeighbours.step[15][1] == 1);
+
+// Besides its value, the evaluation of node x reports the neighbours whose stored distance is
+// larger than their distance to x's closest point (plus a tolerance): those were given a wrong
+// triangle (the band grows in layers of 26-neighbours, which reach some nodes from the wrong part
+// of the patch first, near its medial axis) and are repaired after the layer (see repair()).
 void DistanceBand::evaluate_block(std::int32_t b, const std::vector<std::uint32_t>& nodes, std::size_t begin,
                                   std::size_t end, Scratch& scratch, std::vector<Evaluation>& out) const {
-  const std::size_t nf = patch_.triangles.size();
-  if (scratch.stamp.size() != nf) scratch.stamp.assign(nf, 0);
+  if (scratch.stamp.size() != patch_.triangles.size()) scratch.stamp.assign(patch_.triangles.size(), 0);
   {
     // Only the rows around the block's candidates are read.
     int y0 = 7, y1 = 0, z0 = 7, z1 = 0;
@@ -846,100 +961,145 @@ void DistanceBand::evaluate_block(std::int32_t b, const std::vector<std::uint32_
       z0 = std::min(z0, l >> 6);
       z1 = std::max(z1, l >> 6);
     }
-    fill_apron(b, y0, y1 + 2, z0, z1 + 2, scratch.apron);
+    fill_apron(b, y0, y1 + 2, z0, z1 + 2, scratch);
   }
-  static constexpr std::array<int, 26> kOffsets = [] {
-    std::array<int, 26> offsets{};
-    int k = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx)
-          if (dx != 0 || dy != 0 || dz != 0) offsets[k++] = dx + 10 * dy + 100 * dz;
-    return offsets;
-  }();
+  const NeighbourOffsets& offsets = kNeighbours;
+  const double tolerance = kRepairTolerance * p_.h;
 
   for (std::size_t i = begin; i < end; ++i) {
     const int l = static_cast<int>(nodes[i] % kBlockNodes);
     const int centre = ((l & 7) + 1) + 10 * (((l >> 3) & 7) + 1) + 100 * ((l >> 6) + 1);
-    if (++scratch.current == 0) {
-      std::fill(scratch.stamp.begin(), scratch.stamp.end(), 0);
-      scratch.current = 1;
-    }
-    const std::uint32_t current = scratch.current;
-    const Vec3 x = node_position(b, l);
-    Nearest best;
-    best.squared = std::numeric_limits<double>::infinity();
-    std::int32_t best_t = -1;
-    auto consider = [&](std::int32_t t) {
-      if (scratch.stamp[t] == current) return;
-      scratch.stamp[t] = current;
-      const TriangleGeometry& g = patch_.triangles[t];
-      const double plane_distance = g.normal.dot(x) - g.plane; // a lower bound
-      if (plane_distance * plane_distance > best.squared) return;
-      const Nearest n = nearest_on_triangle(g, x);
-      if (n.squared < best.squared || (n.squared == best.squared && t < best_t)) {
-        best = n;
-        best_t = t;
-      }
-    };
     // The neighbours' closest triangles, without runs of repeats (neighbours along x mostly
-    // agree) and without the -1 of nodes not computed yet; the stamps remove the other repeats.
+    // agree) and without the -1 of nodes not computed yet; stamps remove the other repeats.
     std::array<std::int32_t, 26> candidates;
     int count = 0;
     std::int32_t previous = -1;
     const std::int32_t* around = scratch.apron.data() + centre;
 #pragma GCC unroll 26
     for (int k = 0; k < 26; ++k) {
-      const std::int32_t t = around[kOffsets[k]] >> 3; // -1 where not computed
+      const std::int32_t t = around[offsets.apron[k]] >> 3; // -1 where not computed
       candidates[count] = t;
       count += static_cast<int>((t != previous) & (t >= 0));
       previous = t;
     }
-    for (int k = 0; k < count; ++k) consider(candidates[k]);
+    const Vec3 x = node_position(b, l);
+    const Closest best = closest_among(x, candidates.data(), count, scratch);
     Evaluation& e = out[i];
-    if (best_t < 0) {
-      e = {std::numeric_limits<float>::infinity(), -1, false};
-      continue;
-    }
-    for (int round = 0; round < 8 && best.feature != kFace; ++round) {
-      const std::int32_t t = best_t;
-      const int feature = best.feature;
-      const bool vertex = feature <= kVertex2;
-      const std::size_t row = vertex ? patch_.mesh->triangles[t][feature - kVertex0]
-                                     : static_cast<std::size_t>(patch_.edge_of[3 * t + (feature - kEdge01)]);
-      const std::vector<Index>& offsets = vertex ? patch_.vertex_face_offsets : patch_.edge_face_offsets;
-      const std::vector<Index>& faces = vertex ? patch_.vertex_faces : patch_.edge_faces;
-      for (Index k = offsets[row]; k < offsets[row + 1]; ++k) consider(static_cast<std::int32_t>(faces[k]));
-      if (best_t == t && best.feature == feature) break;
-    }
-    const double d = std::sqrt(best.squared);
+    e = {std::numeric_limits<float>::infinity(), -1, false, false, 0};
+    if (best.tri < 0) continue;
+    const double d = std::sqrt(best.nearest.squared);
     e.dist = static_cast<float>(d);
-    e.closest = 8 * best_t + best.feature;
-    e.spreads = spreads(best, best_t, d);
+    e.closest = 8 * best.tri + best.nearest.feature;
+    e.spreads = spreads(best.nearest, best.tri, d);
+    e.anchors = anchors(best.nearest, best.tri, d);
+    // Neighbour x + h u is at most |h u + offset| from x's closest point. (The 6 face neighbours
+    // are enough to find the border of a wrongly reached region; repair() looks at all 26.)
+    const float* around_dist = scratch.apron_dist.data() + centre;
+    for (const int k : kFaceNeighbours) {
+      const std::int32_t c = around[offsets.apron[k]];
+      if (c < 0 || (c >> 3) == best.tri) continue;
+      const double stored = around_dist[offsets.apron[k]] - tolerance;
+      if (stored > 0.0 && stored * stored > (offsets.vector(k, p_.h) + best.nearest.offset).squaredNorm())
+        e.suspects |= std::uint32_t{1} << k;
+    }
   }
 }
 
-/// Copies the closest-feature codes of block b and of the one-node layer around it (from its 26
-/// neighbours, -1 where absent) into a 10x10x10 array (x + 1, y + 1, z + 1), rows y0..y1 of the
-/// planes z0..z1 only (apron coordinates).
-void DistanceBand::fill_apron(std::int32_t b, int y0, int y1, int z0, int z1,
-                              std::array<std::int32_t, 1000>& apron) const {
+/// Copies the closest-feature codes and distances of block b and of the one-node layer around it
+/// (from its 26 neighbours; -1 and infinity where absent) into 10x10x10 arrays (x + 1, y + 1,
+/// z + 1), rows y0..y1 of the planes z0..z1 only (apron coordinates).
+void DistanceBand::fill_apron(std::int32_t b, int y0, int y1, int z0, int z1, Scratch& scratch) const {
   const Block& blk = blocks_[b];
+  constexpr float kFar = std::numeric_limits<float>::infinity();
   for (int z = z0; z <= z1; ++z) {
     const int oz = z == 0 ? -1 : z == 9 ? 1 : 0;
     for (int y = y0; y <= y1; ++y) {
       const int oy = y == 0 ? -1 : y == 9 ? 1 : 0;
       const int row = 8 * ((y + 7) & 7) + 64 * ((z + 7) & 7); // local index of x = 0
-      std::int32_t* out = &apron[10 * y + 100 * z];
+      std::int32_t* code = &scratch.apron[10 * y + 100 * z];
+      float* dist = &scratch.apron_dist[10 * y + 100 * z];
       const std::int32_t left = blk.neighbours[neighbour_slot(-1, oy, oz)];
       const std::int32_t middle = blk.neighbours[neighbour_slot(0, oy, oz)];
       const std::int32_t right = blk.neighbours[neighbour_slot(1, oy, oz)];
-      out[0] = left >= 0 ? blocks_[left].closest[row + 7] : -1;
-      if (middle >= 0)
-        std::copy_n(&blocks_[middle].closest[row], 8, out + 1);
-      else
-        std::fill_n(out + 1, 8, -1);
-      out[9] = right >= 0 ? blocks_[right].closest[row] : -1;
+      code[0] = left >= 0 ? blocks_[left].closest[row + 7] : -1;
+      dist[0] = left >= 0 ? blocks_[left].dist[row + 7] : kFar;
+      if (middle >= 0) {
+        std::copy_n(&blocks_[middle].closest[row], 8, code + 1);
+        std::copy_n(&blocks_[middle].dist[row], 8, dist + 1);
+      } else {
+        std::fill_n(code + 1, 8, -1);
+        std::fill_n(dist + 1, 8, kFar);
+      }
+      code[9] = right >= 0 ? blocks_[right].closest[row] : -1;
+      dist[9] = right >= 0 ? blocks_[right].dist[row] : kFar;
+    }
+  }
+}
+
+/// Re-evaluates the queued nodes from all their computed neighbours, one at a time. A node that
+/// gets nearer queues the neighbours that its new closest point shows to be wrong in turn, and
+/// joins the front when it now spreads. Rare: where parts of the patch face each other.
+void DistanceBand::repair(std::vector<std::uint32_t>& queue, std::uint32_t layer) {
+  Scratch& scratch = scratch_[0];
+  if (scratch.stamp.size() != patch_.triangles.size()) scratch.stamp.assign(patch_.triangles.size(), 0);
+  const NeighbourOffsets& offsets = kNeighbours;
+  const double tolerance = kRepairTolerance * p_.h;
+  auto neighbour = [&](std::int32_t b, int l, int k, std::int32_t& nb, int& nl) {
+    const std::array<int, 3>& u = offsets.step[k];
+    const int nx = (l & 7) + u[0];
+    const int ny = ((l >> 3) & 7) + u[1];
+    const int nz = (l >> 6) + u[2];
+    nb = blocks_[b].neighbours[neighbour_slot(nx >> 3, ny >> 3, nz >> 3)];
+    nl = (nx & 7) | ((ny & 7) << 3) | ((nz & 7) << 6);
+    return nb >= 0 && ((blocks_[nb].computed[nl >> 6] >> (nl & 63)) & 1) != 0;
+  };
+  while (!queue.empty()) {
+    const std::uint32_t node = queue.back();
+    queue.pop_back();
+    const auto b = static_cast<std::int32_t>(node / kBlockNodes);
+    const int l = static_cast<int>(node % kBlockNodes);
+    Block& blk = blocks_[b];
+    const std::uint64_t bit = std::uint64_t{1} << (l & 63);
+    blk.queued[l >> 6] &= ~bit;
+
+    std::array<std::int32_t, 27> candidates;
+    int count = 0;
+    candidates[count++] = blk.closest[l] >> 3;
+    for (int k = 0; k < 26; ++k) {
+      std::int32_t nb = -1;
+      int nl = 0;
+      if (neighbour(b, l, k, nb, nl)) candidates[count++] = blocks_[nb].closest[nl] >> 3;
+    }
+    const Vec3 x = node_position(b, l);
+    const Closest best = closest_among(x, candidates.data(), count, scratch);
+    const double d = std::sqrt(best.nearest.squared);
+    if (!(static_cast<float>(d) < blk.dist[l])) continue;
+    blk.dist[l] = static_cast<float>(d);
+    blk.closest[l] = 8 * best.tri + best.nearest.feature;
+    if (anchors(best.nearest, best.tri, d))
+      blk.anchoring[l >> 6] |= bit;
+    else
+      blk.anchoring[l >> 6] &= ~bit;
+    if (!(blk.spreading[l >> 6] & bit) && spreads(best.nearest, best.tri, d)) {
+      blk.spreading[l >> 6] |= bit;
+      blk.front[l >> 6] |= bit;
+      if (blk.front_stamp != layer) {
+        blk.front_stamp = layer;
+        front_blocks_.push_back(b);
+      }
+    }
+    for (int k = 0; k < 26; ++k) {
+      std::int32_t nb = -1;
+      int nl = 0;
+      if (!neighbour(b, l, k, nb, nl)) continue;
+      Block& nbk = blocks_[nb];
+      const double stored = nbk.dist[nl] - tolerance;
+      const std::uint64_t nbit = std::uint64_t{1} << (nl & 63);
+      if (stored > 0.0 && !(nbk.queued[nl >> 6] & nbit) &&
+          stored * stored > (offsets.vector(k, p_.h) + best.nearest.offset).squaredNorm()) {
+        nbk.queued[nl >> 6] |= nbit;
+        queue.push_back(static_cast<std::uint32_t>(nb) * kBlockNodes + static_cast<std::uint32_t>(nl));
+      }
     }
   }
 }
@@ -949,9 +1109,11 @@ void DistanceBand::grow() {
   std::vector<std::uint32_t> nodes;
   std::vector<std::size_t> starts; // nodes of touched[k] are nodes[starts[k] .. starts[k + 1])
   std::vector<Evaluation> results;
+  std::vector<std::uint32_t> queue;
   for (std::uint32_t layer = 1; !front_blocks_.empty(); ++layer) {
     touched.clear();
     for (const std::int32_t b : front_blocks_) spread_front(b, layer, touched);
+    front_blocks_.clear();
     nodes.clear();
     starts.clear();
     for (const std::int32_t b : touched) {
@@ -969,7 +1131,6 @@ void DistanceBand::grow() {
       for (std::size_t k = begin; k < end; ++k)
         evaluate_block(touched[k], nodes, starts[k], starts[k + 1], scratch_[worker], results);
     });
-    front_blocks_.clear();
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       const Evaluation& e = results[i];
       if (e.closest < 0) continue;
@@ -981,14 +1142,30 @@ void DistanceBand::grow() {
       blk.closest[l] = e.closest;
       blk.computed[l >> 6] |= bit;
       ++computed_nodes_;
-      if (!e.spreads) continue;
-      blk.front[l >> 6] |= bit;
-      blk.spreading[l >> 6] |= bit;
-      if (blk.front_stamp != layer) {
-        blk.front_stamp = layer;
-        front_blocks_.push_back(b);
+      if (e.anchors) blk.anchoring[l >> 6] |= bit;
+      if (e.spreads) {
+        blk.front[l >> 6] |= bit;
+        blk.spreading[l >> 6] |= bit;
+        if (blk.front_stamp != layer) {
+          blk.front_stamp = layer;
+          front_blocks_.push_back(b);
+        }
+      }
+      for (std::uint32_t m = e.suspects; m; m &= m - 1) {
+        const std::array<int, 3>& u = kNeighbours.step[std::countr_zero(m)];
+        const int nx = (l & 7) + u[0];
+        const int ny = ((l >> 3) & 7) + u[1];
+        const int nz = (l >> 6) + u[2];
+        const std::int32_t nb = blk.neighbours[neighbour_slot(nx >> 3, ny >> 3, nz >> 3)];
+        const int nl = (nx & 7) | ((ny & 7) << 3) | ((nz & 7) << 6);
+        Block& nbk = blocks_[nb];
+        const std::uint64_t nbit = std::uint64_t{1} << (nl & 63);
+        if (nbk.queued[nl >> 6] & nbit) continue;
+        nbk.queued[nl >> 6] |= nbit;
+        queue.push_back(static_cast<std::uint32_t>(nb) * kBlockNodes + static_cast<std::uint32_t>(nl));
       }
     }
+    repair(queue, layer);
   }
 }
 
@@ -1017,10 +1194,10 @@ Contour DistanceBand::contour() const {
       }
   });
 
-  // Per block: contoured cubes (8 computed nodes, one of which spread), crossed cubes, crossed
-  // edges and their ranks. (Requiring a spreading corner changes nothing where the band is
-  // complete, since every cube the contour crosses has a corner below T; where front_only stops
-  // the band it keeps the contour from making islands out of cubes completed from several sides.)
+  // Per block: contoured cubes (8 computed nodes, one of which anchors), crossed cubes, crossed
+  // edges and their ranks. Without front_only every node up to T + 2h anchors, so every cube the
+  // contour crosses is contoured (it has a corner below T); with front_only the anchors select the
+  // front sheet and the rim.
   struct BlockContour {
     SliceMasks contoured;
     SliceMasks crossed_cubes;
@@ -1042,7 +1219,7 @@ Contour DistanceBand::contour() const {
         // s + cz shifted by (cx, cy), taking the bits past x = 7 or y = 7 from the next blocks.
         std::array<std::uint64_t, 8> comp{};
         std::array<std::uint64_t, 8> low{};
-        std::uint64_t any_spreading = 0;
+        std::uint64_t any_anchoring = 0;
         for (int cz = 0; cz < 2; ++cz) {
           const int oz = (s + cz) >> 3;
           const int slice = (s + cz) & 7;
@@ -1051,7 +1228,7 @@ Contour DistanceBand::contour() const {
             const std::int32_t n = corner_block[k + 4 * oz];
             fc[k] = n >= 0 ? blocks_[n].computed[slice] : 0;
             fb[k] = n >= 0 ? below[n][slice] : 0;
-            fs[k] = n >= 0 ? blocks_[n].spreading[slice] : 0;
+            fs[k] = n >= 0 ? blocks_[n].anchoring[slice] : 0;
           }
           auto shifts = [](const std::uint64_t* f, std::uint64_t* out4) {
             out4[0] = f[0];
@@ -1063,7 +1240,7 @@ Contour DistanceBand::contour() const {
           shifts(fb, &low[4 * cz]);
           std::uint64_t sp[4];
           shifts(fs, sp);
-          any_spreading |= sp[0] | sp[1] | sp[2] | sp[3];
+          any_anchoring |= sp[0] | sp[1] | sp[2] | sp[3];
         }
         std::uint64_t all_computed = ~std::uint64_t{0};
         std::uint64_t any_below = 0;
@@ -1073,7 +1250,7 @@ Contour DistanceBand::contour() const {
           any_below |= low[c];
           all_below &= low[c];
         }
-        out.contoured[s] = all_computed & any_spreading;
+        out.contoured[s] = all_computed & any_anchoring;
         out.crossed_cubes[s] = out.contoured[s] & any_below & ~all_below;
         for (int d = 1; d < 8; ++d) out.crossed_edges[d - 1][s] = comp[0] & comp[d] & (low[0] ^ low[d]);
       }
@@ -1204,7 +1381,7 @@ Contour DistanceBand::contour() const {
     c = {};
   }
 
-  // Drop the vertices of crossed edges that no complete cube uses (only where the band stops).
+  // Drop the vertices of crossed edges that no contoured cube uses (only where the band stops).
   std::vector<Index> remap(total, kInvalidIndex);
   for (const Triangle& t : mesh.triangles)
     for (Index v : t) remap[v] = 0;
@@ -1232,11 +1409,11 @@ Contour DistanceBand::contour() const {
 
 // ---- after contouring ------------------------------------------------------------------------------
 
-/// front_only: removes the connected components without a vertex in front of the patch. Where the
-/// band stops below the rim, cubes completed from several sides can hold small pieces of the rim
-/// that are cut off from it; the front sheet and everything joined to it stay. "In front" is judged
-/// with the closest triangle of the node the vertex's grid edge starts from, once a component has
-/// one such vertex no other is tested.
+/// front_only: removes the connected components without a vertex in front of the patch. The edge of
+/// the contoured region behind the rim is ragged at the scale of h and can cut small pieces off the
+/// rim; the front sheet and everything joined to it stay. "In front" is judged with the closest
+/// triangle of the node the vertex's grid edge starts from; once a component has one such vertex,
+/// no other of its vertices is tested.
 void remove_back_islands(Contour& contour, const Patch& patch) {
   TriangleMesh& mesh = contour.mesh;
   const std::size_t nv = mesh.positions.size();
@@ -1359,6 +1536,8 @@ void split_pinched_vertices(TriangleMesh& mesh, const std::vector<Index>& candid
 
 // ---- sizing ---------------------------------------------------------------------------------------------
 
+/// front_only: how far behind the border the rim is contoured, min(T/2, T - 2h) (shorter for
+/// coarse cells, whose contour is rough anyway).
 double front_margin(double distance, double h) { return std::max(0.0, std::min(0.5 * distance, distance - 2.0 * h)); }
 
 /// Expected number of computed nodes: the slabs on both sides of the patch, the half-cylinder

@@ -5,6 +5,7 @@
 #include "st/mesh.h"
 #include "st/offset.h"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -58,6 +59,14 @@ TriangleMesh square_patch(double a, int n) {
 /// [-s, s]^2 at z = 1 (gnomonic grid), normal outward.
 TriangleMesh cap_patch(double r, double s, int n) {
   return grid_patch(n, -s, s, -s, s, [r](double u, double v) -> Vec3 { return Vec3(u, v, 1.0).normalized() * r; });
+}
+
+/// The patch rotated by angle ax about x, then ay about y.
+TriangleMesh rotated(TriangleMesh mesh, double ax, double ay) {
+  const Eigen::Matrix3d r =
+      (Eigen::AngleAxisd(ax, Vec3::UnitX()) * Eigen::AngleAxisd(ay, Vec3::UnitY())).toRotationMatrix();
+  for (Vec3& p : mesh.positions) p = r * p;
+  return mesh;
 }
 
 /// z = 2 sin(x/3) cos(y/4) over [-a/2, a/2]^2.
@@ -364,6 +373,54 @@ TEST(Offset, SphericalCapOffsetLiesOnTheLargerSphere) {
     if (c.z() > 0 && std::abs(c.x() / c.z()) < s - 0.05 && std::abs(c.y() / c.z()) < s - 0.05) {
       EXPECT_GT(face_normal(out, f).dot(c.normalized()), 0.9);
     }
+  }
+}
+
+TEST(Offset, ConcaveCapCloserThanTheDistanceIsOffsetAtTheRightDistance) {
+  // A cap of radius 2 < T seen from inside, tilted against the grid: the offsets of opposite parts
+  // of the cap meet, and 26-neighbour layers reach some nodes from the farther part first (a
+  // regression: before the repair step, vertices came out to 0.15 mm too close to the cap).
+  TriangleMesh cap = cap_patch(2.0, 0.8, 30);
+  for (auto& t : cap.triangles) std::swap(t[1], t[2]); // normals toward the centre
+  const TriangleMesh patch = rotated(cap, 0.5, 0.3);
+  st::OffsetOptions options;
+  options.distance = 2.5;
+  const st::OffsetResult result = st::offset_surface(patch, options);
+  expect_manifold_with_border(result.surface);
+  EXPECT_GT(result.surface.face_count(), 1000u);
+  EXPECT_LE(max_distance_error(result.surface, patch, options.distance), 0.5 * result.cell_size);
+}
+
+TEST(Offset, PatchWithASmallHoleIsOffsetOverTheHole) {
+  // An annulus (radii 1.2 and 10): over the hole the closest points lie on its border all around.
+  const int n = 40;
+  TriangleMesh patch = grid_patch(n, 0, 2 * std::numbers::pi, 1.2, 10, [](double a, double r) {
+    return Vec3(r * std::cos(a), r * std::sin(a), 0.0);
+  });
+  for (auto& t : patch.triangles) // close the seam: the column at 2 pi is the column at 0
+    for (Index& v : t)
+      if (v % (n + 1) == static_cast<Index>(n)) v -= n;
+  if (st::triangle_normal(patch, 0).z() < 0)
+    for (auto& t : patch.triangles) std::swap(t[1], t[2]);
+  st::OffsetOptions options;
+  options.distance = 2.5;
+  for (const bool front_only : {true, false}) {
+    options.front_only = front_only;
+    const st::OffsetResult result = st::offset_surface(patch, options);
+    const TriangleMesh& out = result.surface;
+    if (front_only) {
+      expect_manifold_with_border(out);
+    } else {
+      expect_closed_manifold(out);
+      EXPECT_GT(st::signed_volume(out), 0.0);
+    }
+    EXPECT_EQ(component_count(out), 1u);
+    EXPECT_LE(max_distance_error(out, patch, options.distance, 7), 0.5 * result.cell_size);
+    // Over the hole's centre the sheet is at height sqrt(T^2 - 1.2^2).
+    double top = -1.0;
+    for (const Vec3& p : out.positions)
+      if (std::hypot(p.x(), p.y()) < 0.2) top = std::max(top, p.z());
+    EXPECT_NEAR(top, std::sqrt(2.5 * 2.5 - 1.2 * 1.2), 0.5 * result.cell_size);
   }
 }
 
