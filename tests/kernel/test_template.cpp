@@ -200,3 +200,20 @@ TEST(Template, SimplifiedOuterSurfaceKeepsTheShellValidWithFarFewerTriangles) {
   EXPECT_GT(simple.fit.outer_to_inner.min, c.thickness - simple.resolution);
   EXPECT_LT(simple.fit.outer_to_inner.max, c.thickness + simple.resolution);
 }
+
+// Regression: on this loop (up to the anterior nasal spine) closest-triangle propagation reached
+// crease nodes from the wrong part of the patch and the outer surface came 0.39 mm too close.
+TEST(Template, OuterSurfaceStaysAtTheThicknessNearTheNasalSpine) {
+  const TriangleMesh bone = read_mesh(examples_dir() + "/meshes/maxilla_dentition_ct_crop.stl.gz");
+  TemplateOptions o;
+  o.boundary_points = {{100.29, -183.45, 19.86}, {115.46, -199.29, 20.06}, {134.41, -199.78, 19.91},
+                       {149.58, -185.76, 19.17}, {147.68, -191.59, 11.88}, {134.41, -203.97, 9.75},
+                       {115.46, -202.62, 10.15}, {102.19, -187.46, 13.12}};
+  o.inside = Vec3(124.93, -203.84, 12.75);
+  o.thickness = 2.5;
+  o.resolution = 0.25;
+  const TemplateResult r = design_template(bone, o);
+  expect_valid_solid(r.shell);
+  EXPECT_GT(r.fit.outer_to_inner.min, 2.5 - 0.25);
+  EXPECT_LT(r.fit.outer_to_inner.max, 2.5 + 0.25);
+}
