@@ -207,7 +207,7 @@ void check_self_crossing(const TriangleMesh& mesh, const SurfaceCurve& curve,
           if ((si + 1) % n == sj || (sj + 1) % n == si) continue;
           if (segments_cross_2d(p2(si), p2(si + 1), p2(sj), p2(sj + 1)))
             throw GeometryError(options.name + ": the curve crosses itself near " + where(curve.polyline[si]) +
-                                (options.smooth ? ": reorder or move the control points" : ""));
+                                (options.name == "boundary" ? ": reorder or move the control points" : ""));
         }
     }
     lo = hi;
@@ -400,12 +400,7 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
     polygon_length += (curve.control_points[(i + 1) % n] - curve.control_points[i]).norm();
   double spacing = options.sample_spacing > 0.0 ? options.sample_spacing : tol::kCurveSampleSpacing * mean_edge;
   spacing = std::max(spacing, polygon_length / tol::kMaxCurveSamples);
-  if (!options.smooth) {
-    curve.samples = curve.control_points;
-    curve.sample_faces = curve.control_faces;
-  }
-  const std::vector<Vec3> spline =
-      options.smooth ? closed_catmull_rom(curve.control_points, spacing) : std::vector<Vec3>{};
+  const std::vector<Vec3> spline = closed_catmull_rom(curve.control_points, spacing);
   // Each sample is brought onto the surface near the previous one (a local closest-point search
   // over the faces connected to it), so the curve cannot jump across a thin process or a narrow
   // gap to a surface that is merely close in space.

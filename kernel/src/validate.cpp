@@ -88,7 +88,6 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
     // Walk one fan around v through manifold edges; it must reach every face of v.
     std::size_t reached = 0;
     const Index f0 = faces[0];
-    Index f = f0;
     Index h = 0;
     for (Index k = 0; k < 3; ++k)
       if (mesh.triangles[f0][k] == v) h = 3 * f0 + k; // outgoing half-edge of v in f0
@@ -114,7 +113,6 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
         if (reached > faces.size()) break;
       }
     }
-    (void)f;
     if (reached != faces.size()) {
       ++r.nonmanifold_vertices;
       note(mesh.positions[v]);

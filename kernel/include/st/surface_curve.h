@@ -33,10 +33,6 @@ struct CurveOptions {
   double sample_spacing = 0.0;
   /// Optional extra point (e.g. the "inside" point) whose neighbourhood must be indexed too.
   std::optional<Vec3> also_index;
-  /// true: a spline through the control points, sampled densely and brought onto the surface.
-  /// false: the control points themselves joined by straight walks over the surface (for dense
-  /// points that already lie on the surface, such as the projected border samples of the outer cut).
-  bool smooth = true;
   /// Refuse a curve that crosses itself (GeometryError).
   bool check_self_crossing = true;
   /// What the curve is, for messages ("boundary", "outer cut").
