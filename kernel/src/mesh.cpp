@@ -3,6 +3,7 @@
 #include "st/errors.h"
 
 #include <cmath>
+#include <unordered_map>
 
 namespace st {
 
@@ -63,6 +64,30 @@ std::vector<Vec3> vertex_normals(const TriangleMesh& mesh) {
     if (len > 0.0) n /= len;
   }
   return normals;
+}
+
+TriangleMesh submesh(const TriangleMesh& mesh, const std::vector<Index>& faces,
+                     std::vector<Index>* vertex_map) {
+  TriangleMesh out;
+  std::unordered_map<Index, Index> remap;
+  remap.reserve(faces.size());
+  std::vector<Index> inverse;
+  out.triangles.reserve(faces.size());
+  for (Index f : faces) {
+    Triangle t{};
+    for (int k = 0; k < 3; ++k) {
+      const Index v = mesh.triangles[f][k];
+      auto [it, inserted] = remap.try_emplace(v, static_cast<Index>(out.positions.size()));
+      if (inserted) {
+        out.positions.push_back(mesh.positions[v]);
+        inverse.push_back(v);
+      }
+      t[k] = it->second;
+    }
+    out.triangles.push_back(t);
+  }
+  if (vertex_map) *vertex_map = std::move(inverse);
+  return out;
 }
 
 void check_mesh(const TriangleMesh& mesh, const std::string& what) {

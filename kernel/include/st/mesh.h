@@ -77,6 +77,11 @@ double mean_edge_length(const TriangleMesh& mesh);
 /// Area-weighted vertex normals, unit length (zero for unused vertices).
 std::vector<Vec3> vertex_normals(const TriangleMesh& mesh);
 
+/// The sub-mesh made of the listed faces, with only the vertices they use (in first-use order).
+/// `vertex_map`, when given, receives for each new vertex its index in `mesh`.
+TriangleMesh submesh(const TriangleMesh& mesh, const std::vector<Index>& faces,
+                     std::vector<Index>* vertex_map = nullptr);
+
 /// Throws InvalidInput naming the first non-finite coordinate or out-of-range index.
 void check_mesh(const TriangleMesh& mesh, const std::string& what);
 
