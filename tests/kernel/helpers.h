@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 
@@ -43,6 +44,27 @@ inline TriangleMesh make_icosphere(double radius, int levels, const Vec3& centre
   }
   for (Vec3& p : m.positions) p = centre + radius * p.normalized();
   return m;
+}
+
+/// A patch over the parameter square [u0, u1] x [v0, v1], n x n quads with alternating diagonals,
+/// two triangles each, counter-clockwise in (u, v): the normal is d/du x d/dv.
+inline TriangleMesh make_grid_patch(int n, double u0, double u1, double v0, double v1,
+                                    const std::function<Vec3(double, double)>& map) {
+  TriangleMesh mesh;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) mesh.positions.push_back(map(u0 + (u1 - u0) * i / n, v0 + (v1 - v0) * j / n));
+  auto id = [n](int i, int j) { return static_cast<Index>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if ((i + j) % 2 == 0) {
+        mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+        mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+      } else {
+        mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i, j + 1)});
+        mesh.triangles.push_back({id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+      }
+    }
+  return mesh;
 }
 
 /// Height field z = f(x, y) over [x0, x1] x [y0, y1], n x n quads split in two, normals up.

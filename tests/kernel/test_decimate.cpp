@@ -2,6 +2,8 @@
 // deviation from the input (both ways, brute force), volume, edge length, no flipped or degenerate
 // triangles, sliver-rich marching-tetrahedra input, option checks, and a timing on 200k triangles.
 
+#include "helpers.h"
+
 #include "st/decimate.h"
 #include "st/errors.h"
 #include "st/mesh.h"
@@ -31,54 +33,10 @@ using st::Vec3;
 
 /// n x n quads over [0, n*h]^2 mapped through `map`, alternating diagonals, normal d/du x d/dv.
 TriangleMesh grid_patch(int n, double h, const std::function<Vec3(double, double)>& map) {
-  TriangleMesh mesh;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) mesh.positions.push_back(map(i * h, j * h));
-  auto id = [n](int i, int j) { return static_cast<Index>(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      if ((i + j) % 2 == 0) {
-        mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-        mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-      } else {
-        mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i, j + 1)});
-        mesh.triangles.push_back({id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
-      }
-    }
-  return mesh;
+  return st::test::make_grid_patch(n, 0.0, n * h, 0.0, n * h, map);
 }
 
-/// Icosphere: icosahedron subdivided `levels` times, projected on the sphere.
-TriangleMesh icosphere(double radius, int levels) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  TriangleMesh m;
-  m.positions = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                 {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  m.triangles = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-                 {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
-  for (int l = 0; l < levels; ++l) {
-    std::map<std::pair<Index, Index>, Index> mid;
-    auto midpoint = [&](Index a, Index b) {
-      const auto key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      m.positions.push_back(0.5 * (m.positions[a] + m.positions[b]));
-      return mid[key] = static_cast<Index>(m.positions.size() - 1);
-    };
-    std::vector<st::Triangle> next;
-    for (const st::Triangle& tri : m.triangles) {
-      const Index a = midpoint(tri[0], tri[1]), b = midpoint(tri[1], tri[2]), c = midpoint(tri[2], tri[0]);
-      next.push_back({tri[0], a, c});
-      next.push_back({tri[1], b, a});
-      next.push_back({tri[2], c, b});
-      next.push_back({a, b, c});
-    }
-    m.triangles = std::move(next);
-  }
-  for (Vec3& p : m.positions) p = radius * p.normalized();
-  return m;
-}
+TriangleMesh icosphere(double radius, int levels) { return st::test::make_icosphere(radius, levels); }
 
 /// Open spherical cap of the given radius over the polar angles [0, max_angle]: a gnomonic-free polar
 /// triangulation with rings of nearly equal spacing (one border loop, normals outward).

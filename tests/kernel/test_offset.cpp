@@ -1,6 +1,8 @@
 // Tests of offset_surface: closedness, manifold edges, orientation, distance of every vertex to the
 // patch, enclosed volume against the analytic Minkowski sum, front-only behaviour, input checks.
 
+#include "helpers.h"
+
 #include "st/errors.h"
 #include "st/mesh.h"
 #include "st/offset.h"
@@ -27,27 +29,9 @@ using st::Vec3;
 
 // ---- fixtures --------------------------------------------------------------------------------------
 
-/// A patch over the parameter square [u0, u1] x [v0, v1], n x n quads, two triangles each,
-/// counter-clockwise in (u, v): the normal is d/du x d/dv.
 TriangleMesh grid_patch(int n, double u0, double u1, double v0, double v1,
                         const std::function<Vec3(double, double)>& map) {
-  TriangleMesh mesh;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      mesh.positions.push_back(map(u0 + (u1 - u0) * i / n, v0 + (v1 - v0) * j / n));
-  auto id = [n](int i, int j) { return static_cast<Index>(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      // Alternate the diagonal so the patch is not biased in one direction.
-      if ((i + j) % 2 == 0) {
-        mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-        mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-      } else {
-        mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i, j + 1)});
-        mesh.triangles.push_back({id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
-      }
-    }
-  return mesh;
+  return st::test::make_grid_patch(n, u0, u1, v0, v1, map);
 }
 
 /// The square [-a/2, a/2]^2 in the plane z = 0, normal +z.
