@@ -206,7 +206,7 @@ void check_self_crossing(const TriangleMesh& mesh, const SurfaceCurve& curve,
           const std::size_t si = by_face[i].second, sj = by_face[j].second;
           if ((si + 1) % n == sj || (sj + 1) % n == si) continue;
           if (segments_cross_2d(p2(si), p2(si + 1), p2(sj), p2(sj + 1)))
-            throw GeometryError(options.name + ": the curve crosses itself near " + where(curve.polyline[si]) +
+            throw CurveCrossesItself(options.name + ": the curve crosses itself near " + where(curve.polyline[si]) +
                                 (options.name == "boundary" ? ": reorder or move the control points" : ""));
         }
     }

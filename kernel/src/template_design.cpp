@@ -242,14 +242,11 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
           join_surface_points(offset_topology, outer_points, outer_faces, outer_curve_options);
       outer = cut_region(offset_topology, outer_curve, outer_cut_options);
       result.outer_curve = outer_curve.polyline;
-    } catch (const GeometryError& e) {
-      const bool crossing = std::string(e.what()).find("crosses itself") != std::string::npos;
-      if (!crossing || !auto_step || attempt >= 3 || 2 * step > static_cast<int>(m / 3)) {
-        if (crossing && !auto_step)
-          throw GeometryError(std::string(e.what()) + " (try a larger template.sampling_step than " +
-                              std::to_string(step) + ")");
-        throw;
-      }
+    } catch (const CurveCrossesItself& e) {
+      if (!auto_step)
+        throw CurveCrossesItself(std::string(e.what()) + " (try a larger template.sampling_step than " +
+                                 std::to_string(step) + ")");
+      if (attempt >= 3 || 2 * step > static_cast<int>(m / 3)) throw;
       step *= 2;
     }
     result.times.outer_segmentation += seconds_since(t0);

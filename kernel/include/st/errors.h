@@ -24,4 +24,11 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+/// A closed curve on a surface that crosses itself (see trace_surface_curve): a GeometryError the
+/// caller can act on, e.g. by sampling the curve more coarsely.
+class CurveCrossesItself : public GeometryError {
+public:
+  using GeometryError::GeometryError;
+};
+
 } // namespace st

@@ -33,7 +33,7 @@ struct CurveOptions {
   double sample_spacing = 0.0;
   /// Optional extra point (e.g. the "inside" point) whose neighbourhood must be indexed too.
   std::optional<Vec3> also_index;
-  /// Refuse a curve that crosses itself (GeometryError).
+  /// Refuse a curve that crosses itself (CurveCrossesItself, a GeometryError).
   bool check_self_crossing = true;
   /// What the curve is, for messages ("boundary", "outer cut").
   std::string name = "boundary";
