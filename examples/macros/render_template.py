@@ -4,7 +4,8 @@
         freecad examples/macros/render_template.py
 
 Environment: ST_BONE (STL, or .stl.gz), ST_TEMPLATE (STL), ST_IMAGE (PNG to write),
-ST_VIEW ("x,y,z" view direction, default isometric).
+ST_VIEW ("x,y,z" view direction, default isometric), ST_FRAME ("template" frames the template
+only, for a close-up; default frames the bone around it too).
 """
 import gzip
 import os
@@ -20,6 +21,7 @@ bone_path = os.environ["ST_BONE"]
 template_path = os.environ["ST_TEMPLATE"]
 image = os.environ.get("ST_IMAGE", "template.png")
 view = os.environ.get("ST_VIEW", "")
+frame_template = os.environ.get("ST_FRAME", "") == "template"
 
 
 def work():
@@ -52,7 +54,10 @@ def work():
             v.setViewDirection((d.x, d.y, d.z))
         else:
             v.viewIsometric()
+        if frame_template:
+            bone.ViewObject.Visibility = False
         v.fitAll()
+        bone.ViewObject.Visibility = True
         Gui.updateGui()
         v.saveImage(image, 1000, 750, "White")
         App.closeDocument(doc.Name)

@@ -322,9 +322,34 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     if (!result.solid.valid())
       throw GeometryError("the template shell failed its check: " + result.solid.summary());
   }
+  if (options.check) result.times.validation = seconds_since(t0);
+  result.body_inner_faces = inner.region.face_count();
+  if (!options.tubes.empty()) {
+    GuideOptions guide_options;
+    guide_options.chordal_tolerance = options.tube_tolerance;
+    guide_options.clearance = options.clearance;
+    GuideResult guide = add_tubes(result.shell, result.body_inner_faces, bone, options.tubes, guide_options);
+    result.times.boolean = guide.seconds;
+    result.tubes = std::move(guide.tubes);
+    result.perturbed_operations = guide.perturbed_operations;
+    result.from_tube = std::move(guide.from_tube);
+    result.body = std::move(result.shell);
+    result.shell = std::move(guide.mesh);
+    if (options.check) {
+      t0 = Clock::now();
+      result.solid = check_solid(result.shell);
+      result.times.validation += seconds_since(t0);
+      if (!result.solid.valid())
+        throw GeometryError("the guide with its tubes failed its check: " + result.solid.summary());
+    }
+  } else {
+    result.body = result.shell;
+    result.from_tube.assign(result.shell.face_count(), 0);
+  }
   result.inner = std::move(inner.region);
   result.outer = std::move(outer->region);
   if (options.check) {
+    t0 = Clock::now();
     result.fit.inner_to_bone = distances_to_surface(result.inner.positions, bone_region);
     result.fit.outer_to_inner = distances_to_surface(result.outer.positions, result.inner);
     DistanceStats rim;
@@ -343,7 +368,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     rim.count = p_loop.size();
     rim.mean = rim.count ? sum / static_cast<double>(rim.count) : 0.0;
     result.fit.rim_to_curve = rim;
-    result.times.validation = seconds_since(t0);
+    result.times.validation += seconds_since(t0);
   }
   return result;
 }

@@ -1,10 +1,12 @@
 // surgical-template: designs a surgical template from a case file (docs/CASE-FORMAT.md).
 //
-//   surgical-template design CASE.json [-o OUT.stl] [--report REPORT.json]
+//   surgical-template design CASE.json [-o OUT.stl] [--report REPORT.json] [--simplify] [--tolerance MM]
+//   surgical-template union|difference|intersection A B -o OUT.stl
 //   surgical-template check MESH
 //
 // Exit codes: 0 done, 1 the geometry cannot give a template (message says where), 2 invalid input.
 
+#include "st/boolean.h"
 #include "st/case_file.h"
 #include "st/errors.h"
 #include "st/mesh_io.h"
@@ -15,6 +17,7 @@
 #include <sys/resource.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -25,9 +28,13 @@ namespace {
 
 constexpr const char* kUsage =
     "usage:\n"
-    "  surgical-template design CASE.json [-o OUT.stl] [--report REPORT.json] [--simplify]\n"
-    "      design the template of a case file; writes the STL to -o, else to the case's \"output\"\n"
+    "  surgical-template design CASE.json [-o OUT.stl] [--report REPORT.json] [--simplify] [--tolerance MM]\n"
+    "      design the template of a case file, with its drilling tubes; writes the STL to -o, else to\n"
+    "      the case's \"output\"\n"
     "      --simplify: simplify the outer surface (about 5x fewer triangles, slower)\n"
+    "      --tolerance: chordal tolerance of sleeves and bores in mm (default 0.01)\n"
+    "  surgical-template union|difference|intersection A B -o OUT.stl\n"
+    "      Boolean operation of two closed meshes (A minus B for difference)\n"
     "  surgical-template check MESH\n"
     "      report whether a mesh is a closed, 2-manifold, oriented solid without self-intersections\n";
 
@@ -39,6 +46,19 @@ double peak_memory_mb() {
 
 nlohmann::json stats(const st::DistanceStats& s) {
   return {{"min", s.min}, {"max", s.max}, {"mean", s.mean}, {"count", s.count}};
+}
+
+double parse_length(const std::string& text, const std::string& what) {
+  std::size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(value) || value <= 0.0)
+    throw st::InvalidInput(what + ": expected a positive length in mm, got '" + text + "'");
+  return value;
 }
 
 void write_text_atomically(const std::string& path, const std::string& text) {
@@ -55,11 +75,13 @@ void write_text_atomically(const std::string& path, const std::string& text) {
 int design(int argc, char** argv) {
   std::string case_path, out_path, report_path;
   bool simplify = false;
+  double tolerance = 0.01;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if ((a == "-o" || a == "--output") && i + 1 < argc) out_path = argv[++i];
     else if (a == "--report" && i + 1 < argc) report_path = argv[++i];
     else if (a == "--simplify") simplify = true;
+    else if (a == "--tolerance" && i + 1 < argc) tolerance = parse_length(argv[++i], "--tolerance");
     else if (!a.empty() && a[0] != '-' && case_path.empty()) case_path = a;
     else throw st::InvalidInput("unexpected argument '" + a + "'\n" + kUsage);
   }
@@ -72,10 +94,6 @@ int design(int argc, char** argv) {
     if (!c.output) throw st::InvalidInput(case_path + ": no \"output\" in the case and no -o given");
     out_path = *c.output;
   }
-  if (!c.tubes.empty())
-    std::cerr << "note: the case has " << c.tubes.size()
-              << " drilling tube(s); this version designs the template body only and does not merge "
-                 "sleeves yet\n";
 
   const auto t_read = std::chrono::steady_clock::now();
   st::ReadReport read_report;
@@ -90,6 +108,8 @@ int design(int argc, char** argv) {
   o.resolution = c.resolution.value_or(0.0);
   o.sampling_step = c.sampling_step.value_or(0);
   o.simplify_outer = simplify;
+  o.tubes = c.tubes;
+  o.tube_tolerance = tolerance;
   const st::TemplateResult r = st::design_template(bone, o);
 
   const std::filesystem::path out_file(out_path);
@@ -104,6 +124,8 @@ int design(int argc, char** argv) {
               r.fit.inner_to_bone.max, r.fit.outer_to_inner.min, r.fit.outer_to_inner.max, r.fit.rim_to_curve.max);
   std::printf("  times (s): inner %.3f  offset %.3f  outer points %.3f  outer cut %.3f  connection %.3f  total %.3f\n",
               t.inner_segmentation, t.offset, t.outer_points, t.outer_segmentation, t.connection, t.total);
+  if (!r.tubes.empty())
+    std::printf("  %zu drilling tube(s) merged and bored in %.3f s\n", r.tubes.size(), t.boolean);
 
   if (!report_path.empty()) {
     nlohmann::json rep;
@@ -131,8 +153,17 @@ int design(int argc, char** argv) {
                     {"outer_surface_segmentation", t.outer_segmentation},
                     {"connection_of_inner_and_outer_surfaces", t.connection},
                     {"initial_template_generation", t.total},
+                    {"boolean_operation", t.boolean},
                     {"validation", t.validation},
                     {"wall_clock", std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()}};
+    rep["tubes"] = nlohmann::json::array();
+    for (const st::TubePlacement& p : r.tubes)
+      rep["tubes"].push_back({{"name", p.name},
+                              {"sleeve", {p.sleeve_bottom, p.sleeve_top}},
+                              {"column_bottom", p.column_bottom},
+                              {"template", {p.template_bottom, p.template_top}},
+                              {"bore", {p.bore_bottom, p.bore_top}},
+                              {"inside_template", p.sleeve_inside_template}});
     rep["peak_memory_mb"] = peak_memory_mb();
     rep["solid"] = {{"valid", r.solid.valid()},
                     {"closed", r.solid.closed()},
@@ -152,6 +183,36 @@ int design(int argc, char** argv) {
   return 0;
 }
 
+int boolean(int argc, char** argv, st::BooleanOp op) {
+  std::vector<std::string> inputs;
+  std::string out_path;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if ((a == "-o" || a == "--output") && i + 1 < argc) out_path = argv[++i];
+    else if (!a.empty() && a[0] != '-') inputs.push_back(a);
+    else throw st::InvalidInput("unexpected argument '" + a + "'\n" + kUsage);
+  }
+  if (inputs.size() != 2 || out_path.empty())
+    throw st::InvalidInput(std::string("a Boolean operation needs two meshes and -o OUT.stl\n") + kUsage);
+  const st::TriangleMesh a = st::read_mesh(inputs[0]);
+  const st::TriangleMesh b = st::read_mesh(inputs[1]);
+  st::check_closed_manifold(a, inputs[0]);
+  st::check_closed_manifold(b, inputs[1]);
+  st::BooleanOptions options;
+  options.check_operands = false; // done above, naming the files
+  const st::BooleanResult r = st::mesh_boolean(a, b, op, options);
+  const st::SolidReport report = st::check_solid(r.mesh);
+  if (r.mesh.empty()) throw st::GeometryError("the result is empty (the operands do not overlap)");
+  if (!report.valid()) throw st::GeometryError("the result failed its check: " + report.summary());
+  const std::filesystem::path out_file(out_path);
+  if (out_file.has_parent_path()) std::filesystem::create_directories(out_file.parent_path());
+  st::write_stl(r.mesh, out_path, "surgical-template boolean");
+  std::printf("%s: %zu triangles, volume %.3f mm^3, %zu intersection edges, %.3f s%s\n", out_path.c_str(),
+              r.mesh.triangles.size(), report.volume, r.curve_segments, r.seconds,
+              r.attempts > 1 ? " (touching contact resolved by a displacement)" : "");
+  return 0;
+}
+
 int check(int argc, char** argv) {
   if (argc != 3) throw st::InvalidInput(std::string("check needs one mesh file\n") + kUsage);
   const st::TriangleMesh mesh = st::read_mesh(argv[2]);
@@ -167,6 +228,9 @@ int main(int argc, char** argv) {
     const std::string command = argc > 1 ? argv[1] : "";
     if (command == "design") return design(argc, argv);
     if (command == "check") return check(argc, argv);
+    if (command == "union") return boolean(argc, argv, st::BooleanOp::Union);
+    if (command == "difference") return boolean(argc, argv, st::BooleanOp::Difference);
+    if (command == "intersection") return boolean(argc, argv, st::BooleanOp::Intersection);
     if (command == "-h" || command == "--help") {
       std::fputs(kUsage, stdout);
       return 0;

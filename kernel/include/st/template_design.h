@@ -5,6 +5,8 @@
 // one closed shell. The shell is checked (closed, 2-manifold, outward oriented, no self-intersection)
 // and its fit measured before it is returned.
 
+#include "st/case_file.h"
+#include "st/guide.h"
 #include "st/mesh.h"
 #include "st/tolerances.h"
 #include "st/validate.h"
@@ -29,6 +31,9 @@ struct TemplateOptions {
   /// A simplified shell that fails the check falls back to the contoured one.
   bool simplify_outer = false;
   bool check = true;                  ///< run check_solid and the fit measurements on the result
+  /// Drilling tubes merged into the shell (guide.h); empty for a template without sleeves.
+  std::vector<TubeSpec> tubes;
+  double tube_tolerance = 0.01;       ///< chordal tolerance of sleeves and bores, mm
 };
 
 /// Seconds per step, named after the rows of the paper's Table 1.
@@ -39,6 +44,7 @@ struct TemplateTimes {
   double outer_segmentation = 0.0;
   double connection = 0.0;
   double total = 0.0;      ///< sum of the above: the paper's "initial template generation"
+  double boolean = 0.0;    ///< tubes merged and bores cut: the paper's "Runtime of Boolean operation"
   double validation = 0.0; ///< not part of total
 };
 
@@ -49,7 +55,12 @@ struct TemplateFit {
 };
 
 struct TemplateResult {
-  TriangleMesh shell;            ///< the closed template
+  TriangleMesh shell;            ///< the closed template, with its sleeves and bores when it has tubes
+  TriangleMesh body;             ///< the template before the tubes (== shell without tubes)
+  std::size_t body_inner_faces = 0; ///< the body's first faces are its inner surface
+  std::vector<std::uint8_t> from_tube; ///< per shell face: 1 for sleeve and bore faces
+  std::vector<TubePlacement> tubes;    ///< per tube: where its sleeve and bore were put
+  int perturbed_operations = 0;  ///< Boolean operations that needed a tiny displacement
   TriangleMesh inner;            ///< inner surface (bone side), oriented as the bone
   TriangleMesh outer;            ///< outer surface, oriented outward
   std::vector<Vec3> curve;       ///< the boundary curve on the bone (closed polyline)

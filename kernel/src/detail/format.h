@@ -16,4 +16,12 @@ inline std::string where(const Vec3& p) {
   return s.str();
 }
 
+/// "1.25 mm": a length for messages.
+inline std::string mm(double value) {
+  std::ostringstream s;
+  s.precision(2);
+  s << std::fixed << value << " mm";
+  return s.str();
+}
+
 } // namespace st::detail

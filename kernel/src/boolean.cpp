@@ -1,0 +1,576 @@
+#include "st/boolean.h"
+
+#include "st/aabb_tree.h"
+#include "st/errors.h"
+#include "st/face_split.h"
+#include "st/predicates.h"
+#include "st/topology.h"
+#include "st/triangle_intersection.h"
+
+#include "detail/format.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <optional>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace st {
+
+namespace {
+
+// Thrown inside an attempt when a contact is not in general position (or rounding made it so): the
+// attempt is repeated with the second operand moved.
+struct Degenerate {
+  std::string why;
+};
+
+inline std::uint64_t edge_key(Index u, Index v) {
+  return u < v ? (std::uint64_t{u} << 32) | v : (std::uint64_t{v} << 32) | u;
+}
+
+struct PointKey {
+  std::uint64_t edge;  // the crossing edge, as its (sorted) vertex pair in the shared id space
+  Index face;          // the crossed face, in the shared face id space (B faces after A's)
+  bool operator==(const PointKey&) const = default;
+};
+struct PointKeyHash {
+  std::size_t operator()(const PointKey& k) const {
+    return std::hash<std::uint64_t>()(k.edge * 0x9E3779B97F4A7C15ull ^ k.face);
+  }
+};
+
+struct FaceWork {
+  std::vector<FacePoint> points;
+  std::vector<std::pair<Index, Index>> segments;
+};
+
+struct SeamSegment {
+  Index p, q;   // shared point ids
+  Index fa, fb; // the faces of A and B that meet along it
+};
+
+struct Piece {
+  Triangle t;   // shared vertex ids
+  Index source; // face of its operand
+};
+
+// Union-find over pieces.
+struct Components {
+  std::vector<Index> parent;
+  explicit Components(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), Index{0}); }
+  Index find(Index i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  }
+  void join(Index a, Index b) { parent[find(a)] = find(b); }
+};
+
+// What is known about one component of an operand's pieces.
+struct Verdict {
+  double inside_confidence = 0.0;  // largest side-test margin voting "inside the other operand"
+  double outside_confidence = 0.0; // ... voting "outside"
+  bool exterior = false;           // joined to faces far from the other operand: outside
+  bool on_seat_curve = false;      // bounded by curves on seat faces
+  bool on_other_curve = false;     // bounded by curves on other faces
+  bool all_seat = true;            // every piece lies on a seat face
+  int inside = -1;                 // decision: 1 inside, 0 outside
+};
+
+std::vector<BoundingBox> component_boxes(const TriangleMesh& mesh) {
+  Components uf(mesh.vertex_count());
+  for (const Triangle& t : mesh.triangles) {
+    uf.join(t[0], t[1]);
+    uf.join(t[1], t[2]);
+  }
+  std::unordered_map<Index, BoundingBox> boxes;
+  for (const Triangle& t : mesh.triangles)
+    for (Index v : t) boxes[uf.find(v)].extend(mesh.positions[v]);
+  std::vector<BoundingBox> out;
+  for (auto& [root, box] : boxes) out.push_back(box);
+  std::sort(out.begin(), out.end(), [](const BoundingBox& a, const BoundingBox& b) {
+    return std::tie(a.min[0], a.min[1], a.min[2]) < std::tie(b.min[0], b.min[1], b.min[2]);
+  });
+  return out;
+}
+
+// Faces whose box overlaps one of `boxes`: every face that can meet or lie inside the other operand.
+std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<BoundingBox>& boxes) {
+  BoundingBox all;
+  for (const BoundingBox& b : boxes) all.extend(b);
+  std::vector<Index> out;
+  for (Index f = 0; f < mesh.face_count(); ++f) {
+    const BoundingBox box = triangle_box(mesh, f);
+    if (!box.overlaps(all)) continue;
+    for (const BoundingBox& b : boxes)
+      if (box.overlaps(b)) {
+        out.push_back(f);
+        break;
+      }
+  }
+  return out;
+}
+
+// Parity of ray crossings from p against a closed mesh; tries other directions when a ray grazes an
+// edge. Used only for pieces no intersection curve reaches.
+bool inside_by_rays(const Vec3& p, const TriangleMesh& mesh) {
+  static const Vec3 directions[] = {Vec3(0.5773, 0.5774, 0.5775), Vec3(-0.3119, 0.8421, -0.4399),
+                                    Vec3(0.7071, -0.1213, 0.6965), Vec3(-0.6213, -0.5524, 0.5557),
+                                    Vec3(0.1234, -0.9321, -0.3402)};
+  int votes_inside = 0, votes = 0;
+  for (const Vec3& raw : directions) {
+    const Vec3 d = raw.normalized();
+    int crossings = 0;
+    bool grazing = false;
+    for (const Triangle& t : mesh.triangles) {
+      const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+      const Vec3 e1 = b - a, e2 = c - a;
+      const Vec3 h = d.cross(e2);
+      const double det = e1.dot(h);
+      if (std::abs(det) < 1e-300) continue;
+      const Vec3 s = p - a;
+      const double u = s.dot(h) / det;
+      if (u < -1e-12 || u > 1.0 + 1e-12) continue;
+      const Vec3 q = s.cross(e1);
+      const double v = d.dot(q) / det;
+      if (v < -1e-12 || u + v > 1.0 + 1e-12) continue;
+      const double t_hit = e2.dot(q) / det;
+      if (t_hit < -1e-12) continue;
+      if (u < 1e-9 || v < 1e-9 || u + v > 1.0 - 1e-9 || std::abs(t_hit) < 1e-12) {
+        grazing = true;
+        break;
+      }
+      ++crossings;
+    }
+    if (grazing) continue;
+    ++votes;
+    votes_inside += crossings % 2;
+    if (votes >= 3) break;
+  }
+  if (votes == 0) throw Degenerate{"every ray grazes an edge"};
+  return 2 * votes_inside > votes;
+}
+
+class Corefinement {
+public:
+  Corefinement(const TriangleMesh& a, const TriangleMesh& b, const BooleanOptions& options)
+      : a_(a), b_(b), options_(options), na_(a.vertex_count()), nb_(b.vertex_count()) {}
+
+  BooleanResult run(BooleanOp op) {
+    find_segments();
+    split_faces();
+    for (int s = 0; s < 2; ++s) collect_pieces(s);
+    for (int s = 0; s < 2; ++s) classify(s);
+    return assemble(op);
+  }
+
+private:
+  const Vec3& position(Index id) const {
+    if (id < na_) return a_.positions[id];
+    if (id < na_ + nb_) return b_.positions[id - na_];
+    return points_[id - na_ - nb_];
+  }
+  const TriangleMesh& mesh(int s) const { return s == 0 ? a_ : b_; }
+  Index base(int s) const { return s == 0 ? 0 : na_; }
+  std::array<Vec3, 3> corners(int s, Index f) const {
+    const TriangleMesh& m = mesh(s);
+    const Triangle& t = m.triangles[f];
+    return {m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]};
+  }
+
+  // The point where edge (u, v) of operand s (its own vertex ids) crosses face f of the other.
+  Index crossing_point(int s, Index u, Index v, Index f, double& t_canonical) {
+    const Index gu = base(s) + u, gv = base(s) + v;
+    const PointKey key{edge_key(gu, gv), s == 0 ? f + a_.face_count() : f};
+    const auto it = point_index_.find(key);
+    if (it != point_index_.end()) {
+      t_canonical = point_t_[it->second];
+      return na_ + nb_ + it->second;
+    }
+    const Vec3& p = position(std::min(gu, gv));
+    const Vec3& q = position(std::max(gu, gv));
+    const auto c = corners(1 - s, f);
+    const Vec3 n = (c[1] - c[0]).cross(c[2] - c[0]);
+    const double dp = n.dot(p - c[0]), dq = n.dot(q - c[0]);
+    const double t = dp / (dp - dq);
+    if (!(t > 0.0 && t < 1.0)) throw Degenerate{"a crossing at an edge's end"};
+    const Index id = static_cast<Index>(points_.size());
+    points_.push_back(p + t * (q - p));
+    point_t_.push_back(t);
+    point_index_.emplace(key, id);
+    t_canonical = t;
+    return na_ + nb_ + id;
+  }
+
+  static void add_point(FaceWork& w, const FacePoint& p) {
+    for (const FacePoint& q : w.points)
+      if (q.id == p.id) return;
+    w.points.push_back(p);
+  }
+
+  void find_segments() {
+    const std::vector<Index> near_a = faces_near(a_, component_boxes(b_));
+    const std::vector<Index> near_b = faces_near(b_, component_boxes(a_));
+    local_[0].assign(a_.face_count(), 0);
+    local_[1].assign(b_.face_count(), 0);
+    for (Index f : near_a) local_[0][f] = 1;
+    for (Index f : near_b) local_[1][f] = 1;
+    if (near_a.empty() || near_b.empty()) return;
+    const AabbTree tree_a(a_, near_a);
+    const AabbTree tree_b(b_, near_b);
+    tree_a.for_each_overlapping_pair(tree_b, [&](Index fa, Index fb) { intersect_pair(fa, fb); });
+  }
+
+  void intersect_pair(Index fa, Index fb) {
+    const auto pa = corners(0, fa), pb = corners(1, fb);
+    int sa[3], sb[3];
+    for (int i = 0; i < 3; ++i) sa[i] = orient3d(pb[0], pb[1], pb[2], pa[i]);
+    if ((sa[0] > 0 && sa[1] > 0 && sa[2] > 0) || (sa[0] < 0 && sa[1] < 0 && sa[2] < 0)) return;
+    for (int i = 0; i < 3; ++i) sb[i] = orient3d(pa[0], pa[1], pa[2], pb[i]);
+    if ((sb[0] > 0 && sb[1] > 0 && sb[2] > 0) || (sb[0] < 0 && sb[1] < 0 && sb[2] < 0)) return;
+    if (sa[0] == 0 || sa[1] == 0 || sa[2] == 0 || sb[0] == 0 || sb[1] == 0 || sb[2] == 0) {
+      if (triangles_intersect(pa[0], pa[1], pa[2], pb[0], pb[1], pb[2]))
+        throw Degenerate{"a vertex on the other operand's face plane, near " + detail::where(pa[0])};
+      return;
+    }
+    struct Event {
+      Index point;
+      int side;  // 0: an edge of fa crosses fb; 1: an edge of fb crosses fa
+      int edge;  // which edge of its face
+      double t;  // parameter along that edge, from its corner `edge`
+    };
+    std::array<Event, 4> events{};
+    int count = 0;
+    auto edges_through = [&](int s, const std::array<Vec3, 3>& p, const int* sp, const std::array<Vec3, 3>& q,
+                             Index f_own, Index f_other) {
+      const Triangle& tri = mesh(s).triangles[f_own];
+      for (int i = 0; i < 3; ++i) {
+        const int j = (i + 1) % 3;
+        if (sp[i] == sp[j]) continue;
+        int o[3];
+        for (int k = 0; k < 3; ++k) o[k] = orient3d(p[i], p[j], q[k], q[(k + 1) % 3]);
+        const bool pos = o[0] >= 0 && o[1] >= 0 && o[2] >= 0, neg = o[0] <= 0 && o[1] <= 0 && o[2] <= 0;
+        if (!pos && !neg) continue;
+        if (o[0] == 0 || o[1] == 0 || o[2] == 0)
+          throw Degenerate{"an edge through the other operand's edge, near " + detail::where(p[i])};
+        if (count == 4) throw Degenerate{"too many crossings"};
+        double t_canonical = 0.0;
+        const Index id = crossing_point(s, tri[i], tri[j], f_other, t_canonical);
+        const bool forward = base(s) + tri[i] < base(s) + tri[j];
+        events[count++] = {id, s, i, forward ? t_canonical : 1.0 - t_canonical};
+      }
+    };
+    edges_through(0, pa, sa, pb, fa, fb);
+    edges_through(1, pb, sb, pa, fb, fa);
+    if (count == 0) return;
+    if (count != 2) throw Degenerate{"an odd crossing near " + detail::where(pa[0])};
+    FaceWork& wa = work_[0][fa];
+    FaceWork& wb = work_[1][fb];
+    for (int e = 0; e < 2; ++e) {
+      const Event& ev = events[e];
+      const Vec3& at = points_[ev.point - na_ - nb_];
+      add_point(ev.side == 0 ? wa : wb, {ev.point, ev.edge, ev.t, at});
+      add_point(ev.side == 0 ? wb : wa, {ev.point, -1, 0.0, at});
+    }
+    if (events[0].point == events[1].point) throw Degenerate{"a zero-length intersection"};
+    wa.segments.emplace_back(events[0].point, events[1].point);
+    wb.segments.emplace_back(events[0].point, events[1].point);
+    seam_.push_back({events[0].point, events[1].point, fa, fb});
+  }
+
+  void split_faces() {
+    for (int s = 0; s < 2; ++s)
+      for (auto& [f, w] : work_[s]) {
+        FaceSplitInput in;
+        in.corners = corners(s, f);
+        const Triangle& t = mesh(s).triangles[f];
+        in.corner_ids = {base(s) + t[0], base(s) + t[1], base(s) + t[2]};
+        in.points = w.points;
+        in.segments = w.segments;
+        try {
+          split_[s][f] = split_face(in);
+        } catch (const GeometryError& e) {
+          throw Degenerate{std::string(e.what()) + " near " + detail::where(in.corners[0])};
+        }
+      }
+  }
+
+  void collect_pieces(int s) {
+    const TriangleMesh& m = mesh(s);
+    std::vector<Piece>& pieces = pieces_[s];
+    for (Index f = 0; f < m.face_count(); ++f) {
+      if (!local_[s][f]) continue;
+      const auto it = split_[s].find(f);
+      if (it == split_[s].end()) {
+        const Triangle& t = m.triangles[f];
+        pieces.push_back({{base(s) + t[0], base(s) + t[1], base(s) + t[2]}, f});
+      } else {
+        for (const Triangle& t : it->second) pieces.push_back({t, f});
+      }
+    }
+  }
+
+  void classify(int s) {
+    std::vector<Piece>& pieces = pieces_[s];
+    const std::size_t n = pieces.size();
+    std::unordered_set<std::uint64_t> seam_edges;
+    for (const SeamSegment& g : seam_) seam_edges.insert(edge_key(g.p, g.q));
+    std::vector<std::pair<std::uint64_t, Index>> edges;
+    edges.reserve(3 * n);
+    for (Index i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) edges.emplace_back(edge_key(pieces[i].t[k], pieces[i].t[(k + 1) % 3]), i);
+    std::sort(edges.begin(), edges.end());
+    Components uf(n);
+    std::vector<std::uint8_t> touches_outside(n, 0);
+    std::unordered_map<std::uint64_t, std::array<Index, 2>> seam_pieces;
+    for (std::size_t i = 0; i < edges.size();) {
+      std::size_t j = i;
+      while (j < edges.size() && edges[j].first == edges[i].first) ++j;
+      const std::size_t uses = j - i;
+      const bool seam = seam_edges.count(edges[i].first) != 0;
+      if (uses == 1) {
+        if (seam) throw Degenerate{"an intersection edge with one side"};
+        touches_outside[edges[i].second] = 1; // shared with a face far from the other operand
+      } else if (uses == 2) {
+        if (seam) seam_pieces[edges[i].first] = {edges[i].second, edges[i + 1].second};
+        else uf.join(edges[i].second, edges[i + 1].second);
+      } else {
+        throw Degenerate{"an edge with " + std::to_string(uses) + " faces after splitting"};
+      }
+      i = j;
+    }
+    std::vector<Index>& component = components_[s];
+    component.assign(n, 0);
+    std::unordered_map<Index, Index> root_to_component;
+    for (Index i = 0; i < n; ++i) {
+      const auto [it, fresh] = root_to_component.emplace(uf.find(i), static_cast<Index>(root_to_component.size()));
+      component[i] = it->second;
+    }
+    std::vector<Verdict>& verdicts = verdicts_[s];
+    verdicts.assign(root_to_component.size(), {});
+    const std::vector<std::uint8_t>& seat = options_.seat;
+    for (Index i = 0; i < n; ++i) {
+      Verdict& v = verdicts[component[i]];
+      if (touches_outside[i]) v.exterior = true;
+      if (s == 1 || seat.empty() || !seat[pieces[i].source]) v.all_seat = false;
+    }
+    // Side test at the intersection curve: the piece next to a segment lies on one side of the
+    // other operand's face through that segment; its centroid tells which, exactly.
+    for (const SeamSegment& g : seam_) {
+      const auto it = seam_pieces.find(edge_key(g.p, g.q));
+      if (it == seam_pieces.end()) throw Degenerate{"an intersection edge missing after splitting"};
+      const auto other = corners(1 - s, s == 0 ? g.fb : g.fa);
+      const Vec3 normal = (other[1] - other[0]).cross(other[2] - other[0]);
+      const double length = normal.norm();
+      for (Index piece : it->second) {
+        const Triangle& t = pieces[piece].t;
+        const Vec3 centroid = (position(t[0]) + position(t[1]) + position(t[2])) / 3.0;
+        const int side = orient3d(other[0], other[1], other[2], centroid);
+        if (side == 0) continue;
+        const double margin = std::abs(normal.dot(centroid - other[0])) / length;
+        Verdict& v = verdicts[component[piece]];
+        double& confidence = side > 0 ? v.inside_confidence : v.outside_confidence;
+        confidence = std::max(confidence, margin);
+        if (s == 1 && !seat.empty()) (seat[g.fa] ? v.on_seat_curve : v.on_other_curve) = true;
+      }
+    }
+    for (std::size_t c = 0; c < verdicts.size(); ++c) {
+      Verdict& v = verdicts[c];
+      const double in = v.inside_confidence, out = v.outside_confidence;
+      if (in > 0.0 || out > 0.0) {
+        if (std::min(in, out) > 1e-3 * std::max(in, out)) throw Degenerate{"a piece on both sides"};
+        v.inside = in > out ? 1 : 0;
+        if (v.exterior && v.inside) throw Degenerate{"a piece inside joined to faces far outside"};
+      } else if (v.exterior) {
+        v.inside = 0;
+      }
+    }
+    // Pieces no curve reaches and not joined to far faces (a part wholly inside or outside): rays.
+    for (Index i = 0; i < n; ++i) {
+      Verdict& v = verdicts[component[i]];
+      if (v.inside >= 0) continue;
+      const Triangle& t = pieces[i].t;
+      const Vec3 centroid = (position(t[0]) + position(t[1]) + position(t[2])) / 3.0;
+      v.inside = inside_by_rays(centroid, mesh(1 - s)) ? 1 : 0;
+    }
+  }
+
+  bool keep(int s, const Verdict& v, BooleanOp op) const {
+    const bool inside = v.inside == 1;
+    switch (op) {
+    case BooleanOp::Union:
+      if (!options_.seat.empty()) {
+        if (s == 0 && inside && v.all_seat) return true;
+        if (s == 1 && !inside && v.on_seat_curve) {
+          if (v.on_other_curve)
+            throw GeometryError("the second operand passes below the seat and beside it at once "
+                                "(e.g. a sleeve across the template's rim, under its inner surface)");
+          return false;
+        }
+      }
+      return !inside;
+    case BooleanOp::Intersection: return inside;
+    case BooleanOp::Difference: return s == 0 ? !inside : inside;
+    }
+    return false;
+  }
+
+  BooleanResult assemble(BooleanOp op) {
+    BooleanResult result;
+    const std::size_t total = na_ + nb_ + points_.size();
+    std::vector<Index> remap(total, kInvalidIndex);
+    TriangleMesh& out = result.mesh;
+    auto vertex = [&](Index id) {
+      if (remap[id] == kInvalidIndex) {
+        remap[id] = out.vertex_count();
+        Vec3 p = position(id);
+        if (options_.round_to_float) p = p.cast<float>().cast<double>();
+        out.positions.push_back(p);
+      }
+      return remap[id];
+    };
+    auto emit = [&](const Triangle& t, bool reverse, std::uint8_t from_b, Index source) {
+      const Index a = vertex(t[0]), b = vertex(t[1]), c = vertex(t[2]);
+      out.triangles.push_back(reverse ? Triangle{a, c, b} : Triangle{a, b, c});
+      result.from_b.push_back(from_b);
+      result.source_face.push_back(source);
+    };
+    // Faces far from the other operand are outside it.
+    const Verdict far_outside{.exterior = true, .inside = 0};
+    std::vector<Index> fresh; // result faces that come from the pieces, checked after rounding
+    for (int s = 0; s < 2; ++s) {
+      const bool reverse = op == BooleanOp::Difference && s == 1;
+      const TriangleMesh& m = mesh(s);
+      if (keep(s, far_outside, op))
+        for (Index f = 0; f < m.face_count(); ++f)
+          if (!local_[s][f]) {
+            const Triangle& t = m.triangles[f];
+            emit({base(s) + t[0], base(s) + t[1], base(s) + t[2]}, reverse, static_cast<std::uint8_t>(s), f);
+          }
+      // keep() is evaluated once per component.
+      std::vector<std::int8_t> kept(verdicts_[s].size(), -1);
+      for (std::size_t i = 0; i < pieces_[s].size(); ++i) {
+        const Index c = component_of(s, i);
+        if (kept[c] < 0) kept[c] = keep(s, verdicts_[s][c], op) ? 1 : 0;
+        if (!kept[c]) continue;
+        fresh.push_back(out.face_count());
+        emit(pieces_[s][i].t, reverse, static_cast<std::uint8_t>(s), pieces_[s][i].source);
+      }
+    }
+    check_fresh(out, fresh);
+    result.intersecting_pairs = seam_.size();
+    result.curve_segments = seam_.size();
+    result.split_faces = split_[0].size() + split_[1].size();
+    return result;
+  }
+
+  Index component_of(int s, std::size_t piece) const { return components_[s][piece]; }
+
+  // After rounding, the faces near the curves must still be proper triangles that do not cross.
+  void check_fresh(const TriangleMesh& out, const std::vector<Index>& fresh) const {
+    for (Index f : fresh) {
+      const Triangle& t = out.triangles[f];
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) throw Degenerate{"two corners rounded together"};
+      const Vec3 n = (out.positions[t[1]] - out.positions[t[0]]).cross(out.positions[t[2]] - out.positions[t[0]]);
+      if (n.squaredNorm() == 0.0) throw Degenerate{"a triangle rounded flat"};
+    }
+    if (fresh.empty()) return;
+    const AabbTree tree(out, fresh);
+    tree.for_each_overlapping_pair([&](Index f, Index g) {
+      const Triangle &ta = out.triangles[f], &tb = out.triangles[g];
+      const std::array<Vec3, 3> pa = {out.positions[ta[0]], out.positions[ta[1]], out.positions[ta[2]]};
+      const std::array<Vec3, 3> pb = {out.positions[tb[0]], out.positions[tb[1]], out.positions[tb[2]]};
+      if (mesh_triangles_intersect(ta, pa, tb, pb))
+        throw Degenerate{"faces near the intersection curve cross after rounding, near " + detail::where(pa[0])};
+    });
+  }
+
+  const TriangleMesh& a_;
+  const TriangleMesh& b_;
+  const BooleanOptions& options_;
+  const Index na_, nb_;
+  std::vector<Vec3> points_;
+  std::vector<double> point_t_;
+  std::unordered_map<PointKey, Index, PointKeyHash> point_index_;
+  std::unordered_map<Index, FaceWork> work_[2];
+  std::unordered_map<Index, std::vector<Triangle>> split_[2];
+  std::vector<SeamSegment> seam_;
+  std::vector<std::uint8_t> local_[2];
+  std::vector<Piece> pieces_[2];
+  std::vector<Index> components_[2];
+  std::vector<Verdict> verdicts_[2];
+};
+
+void check_operand(const TriangleMesh& mesh, const std::string& what) {
+  if (mesh.empty()) throw InvalidInput(what + " is empty");
+  check_mesh(mesh, what);
+  check_closed_manifold(mesh, what);
+}
+
+} // namespace
+
+void check_closed_manifold(const TriangleMesh& mesh, const std::string& what) {
+  const MeshTopology topology(mesh);
+  std::size_t open = 0;
+  Vec3 where = Vec3::Zero();
+  for (Index h = 0; h < 3 * mesh.face_count(); ++h)
+    if (topology.opposite(h) == kInvalidIndex) {
+      if (open++ == 0) where = mesh.positions[topology.from_vertex(h)];
+    }
+  if (open > 0)
+    throw InvalidInput(what + " is not a closed, 2-manifold, consistently oriented surface: " +
+                       std::to_string(open) + " edge(s) without a proper partner face, the first near " +
+                       detail::where(where));
+}
+
+BooleanResult mesh_boolean(const TriangleMesh& a, const TriangleMesh& b, BooleanOp op,
+                           const BooleanOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (options.check_operands) {
+    check_operand(a, "the first operand");
+    check_operand(b, "the second operand");
+  } else {
+    if (a.empty() || b.empty()) throw InvalidInput("a Boolean operand is empty");
+  }
+  if (!options.seat.empty() && options.seat.size() != a.face_count())
+    throw InvalidInput("the seat flags must have one entry per face of the first operand");
+  BoundingBox box = bounding_box(a);
+  box.extend(bounding_box(b));
+  const double magnitude = std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
+  // 10 float32 ulp of the largest coordinate: large enough to survive rounding to float, far below
+  // any printing or tessellation tolerance.
+  const double step = std::max(10.0 * magnitude * std::ldexp(1.0, -23), 1e-9);
+  static const Vec3 kicks[] = {Vec3(0.5377, -0.6131, 0.5787), Vec3(-0.4431, 0.3318, 0.8328),
+                               Vec3(0.7202, 0.6113, -0.3281), Vec3(-0.2217, -0.8874, -0.4041),
+                               Vec3(0.3010, 0.1417, -0.9430)};
+  std::string last_reason;
+  for (int attempt = 0; attempt < std::max(1, options.max_attempts); ++attempt) {
+    TriangleMesh moved;
+    const TriangleMesh* second = &b;
+    double offset = 0.0;
+    if (attempt > 0) {
+      offset = step * attempt;
+      const Vec3 kick = offset * kicks[(attempt - 1) % 5].normalized();
+      moved = b;
+      for (Vec3& p : moved.positions) p += kick;
+      second = &moved;
+    }
+    try {
+      Corefinement core(a, *second, options);
+      BooleanResult result = core.run(op);
+      result.attempts = attempt + 1;
+      result.perturbation = offset;
+      result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      return result;
+    } catch (const Degenerate& d) {
+      last_reason = d.why;
+    }
+  }
+  throw GeometryError("Boolean operation: the operands touch in a way that stays degenerate after " +
+                      std::to_string(options.max_attempts) + " small displacements (" + last_reason + ")");
+}
+
+} // namespace st

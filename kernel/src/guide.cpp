@@ -1,0 +1,189 @@
+#include "st/guide.h"
+
+#include "st/aabb_tree.h"
+#include "st/boolean.h"
+#include "st/errors.h"
+#include "st/sleeve.h"
+
+#include "detail/format.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <optional>
+
+namespace st {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Faces of `mesh` whose box meets the box around the tube's axis between heights z0 and z1.
+std::vector<Index> faces_around(const TriangleMesh& mesh, const TubeSpec& tube, double radius, double z0,
+                                double z1) {
+  BoundingBox box;
+  box.extend(tube_point(tube, z0));
+  box.extend(tube_point(tube, z1));
+  box = box.inflated(radius);
+  std::vector<Index> faces;
+  for (Index f = 0; f < mesh.face_count(); ++f)
+    if (triangle_box(mesh, f).overlaps(box)) faces.push_back(f);
+  return faces;
+}
+
+struct Sample {
+  double radius = 0.0;
+  double angle = 0.0;
+  std::optional<double> enter, exit; // heights where the ray enters and leaves the template
+};
+
+TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const TriangleMesh& bone,
+                    const GuideOptions& options) {
+  TubePlacement p;
+  p.name = tube.name;
+  p.sleeve_bottom = tube.offset;
+  p.sleeve_top = tube.offset + tube.length;
+  const Vec3 axis = tube_axis(tube);
+  Vec3 u, v;
+  orthonormal_frame(axis, u, v);
+  // Rays start above the sleeve and look for the template as far below the entry as the sleeve is
+  // wide (steep bone) plus a margin.
+  const double start = p.sleeve_top + options.bore_margin;
+  const double reach = start + 3.0 * tube.outer_radius + 20.0;
+  auto origin_of = [&](const Sample& s) {
+    return tube_point(tube, start) + s.radius * (std::cos(s.angle) * u + std::sin(s.angle) * v);
+  };
+  const AabbTree tree(shell, faces_around(shell, tube, tube.outer_radius, start, start - reach));
+  std::vector<Sample> samples;
+  constexpr int kAround = 16;
+  for (double radius : {0.0, tube.inner_radius, tube.outer_radius})
+    for (int k = 0; k < (radius == 0.0 ? 1 : kAround); ++k) {
+      Sample s{radius, 2.0 * std::numbers::pi * k / kAround, {}, {}};
+      if (!tree.empty())
+        if (const auto first = tree.first_hit(origin_of(s), -axis, 0.0, reach)) {
+          if (triangle_normal(shell, first->face).dot(-axis) < 0.0) { // entering the template
+            s.enter = start - first->t;
+            if (const auto second = tree.first_hit(origin_of(s), -axis, first->t + 1e-9, reach))
+              s.exit = start - second->t;
+          } else { // the ray starts inside the template's wall
+            s.enter = start;
+            s.exit = start - first->t;
+          }
+        }
+      samples.push_back(s);
+    }
+  std::optional<double> top, bottom, middle, bore, lowest_top, highest_bottom;
+  bool all_hit = true;
+  for (const Sample& s : samples) {
+    if (!s.enter || !s.exit) {
+      all_hit = false;
+      continue;
+    }
+    top = std::max(top.value_or(-1e300), *s.enter);
+    lowest_top = std::min(lowest_top.value_or(1e300), *s.enter);
+    bottom = std::min(bottom.value_or(1e300), *s.exit);
+    highest_bottom = std::max(highest_bottom.value_or(-1e300), *s.exit);
+    middle = std::min(middle.value_or(1e300), 0.5 * (*s.enter + *s.exit));
+    if (s.radius <= tube.inner_radius) bore = std::min(bore.value_or(1e300), *s.exit);
+  }
+  if (!top) {
+    const AabbTree all(shell);
+    const auto closest = all.closest_point(tube.entry);
+    throw GeometryError("tube '" + tube.name + "' misses the template: no part of the sleeve (outer radius " +
+                        detail::mm(tube.outer_radius) + ") lies over it; the template passes " +
+                        (closest ? detail::mm(closest->distance) : std::string("far")) + " from the entry " +
+                        detail::where(tube.entry));
+  }
+  // The column reaches down into the middle of the template wall, or to the sleeve's planned lower
+  // end if that is lower; where the sleeve overhangs the template's rim it must stay above the bone.
+  double column = std::min(*middle, p.sleeve_bottom);
+  std::optional<AabbTree> bone_tree;
+  for (const Sample& s : samples) {
+    if (s.enter || s.radius < tube.outer_radius) continue;
+    if (!bone_tree) bone_tree.emplace(bone, faces_around(bone, tube, tube.outer_radius, start, start - reach));
+    if (bone_tree->empty()) break;
+    if (const auto hit = bone_tree->first_hit(origin_of(s), -axis, 0.0, reach))
+      column = std::max(column, start - hit->t + options.clearance + 0.05);
+  }
+  p.template_top = *top;
+  p.template_bottom = *bottom;
+  p.column_bottom = column;
+  p.sleeve_inside_template = all_hit && p.sleeve_top < *lowest_top && p.sleeve_bottom > *highest_bottom;
+  p.bore_top = std::max(p.sleeve_top, p.template_top) + options.bore_margin;
+  p.bore_bottom = bore.value_or(p.template_bottom) - options.bore_margin;
+  return p;
+}
+
+} // namespace
+
+GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
+                      const std::vector<TubeSpec>& tubes, const GuideOptions& options) {
+  const auto t0 = Clock::now();
+  if (!(options.chordal_tolerance > 0.0) || !(options.chordal_tolerance < 1.0))
+    throw InvalidInput("chordal tolerance: must be in (0, 1) mm, got " + std::to_string(options.chordal_tolerance));
+  if (inner_faces > shell.face_count()) throw InvalidInput("inner faces: more than the shell has");
+  GuideResult result;
+  result.mesh = shell;
+  result.from_tube.assign(shell.face_count(), 0);
+  if (tubes.empty()) return result;
+  for (const TubeSpec& t : tubes) check_tube(t);
+
+  BooleanOptions quick; // the operands are made here, closed by construction
+  quick.check_operands = false;
+  auto unite = [&](TriangleMesh& all, const TriangleMesh& one) {
+    if (all.empty()) {
+      all = one;
+      return;
+    }
+    const BooleanResult r = mesh_boolean(all, one, BooleanOp::Union, quick);
+    result.perturbed_operations += r.attempts > 1;
+    all = r.mesh;
+  };
+  for (const TubeSpec& tube : tubes) result.tubes.push_back(place(tube, shell, bone, options));
+
+  // Columns (each sleeve's outer cylinder from inside the template wall to the sleeve's top), united
+  // with each other (neighbouring sleeves may overlap) and then with the shell, on its seat.
+  TriangleMesh columns;
+  for (std::size_t i = 0; i < tubes.size(); ++i) {
+    const TubePlacement& p = result.tubes[i];
+    if (p.sleeve_inside_template) continue;
+    unite(columns, cylinder_mesh(tube_cylinder(tubes[i], tubes[i].outer_radius, p.column_bottom, p.sleeve_top),
+                                 options.chordal_tolerance));
+  }
+  if (!columns.empty()) {
+    BooleanOptions o = quick;
+    o.seat.assign(shell.face_count(), 0);
+    std::fill(o.seat.begin(), o.seat.begin() + static_cast<std::ptrdiff_t>(inner_faces), 1);
+    BooleanResult merged = mesh_boolean(result.mesh, columns, BooleanOp::Union, o);
+    result.perturbed_operations += merged.attempts > 1;
+    result.mesh = std::move(merged.mesh);
+    result.from_tube = std::move(merged.from_b);
+  }
+  result.union_seconds = seconds_since(t0);
+
+  // Bores along every whole axis, from above the sleeve to below the inner surface.
+  const auto t1 = Clock::now();
+  TriangleMesh bores;
+  for (std::size_t i = 0; i < tubes.size(); ++i) {
+    const TubePlacement& p = result.tubes[i];
+    unite(bores, cylinder_mesh(tube_cylinder(tubes[i], tubes[i].inner_radius, p.bore_bottom, p.bore_top),
+                               options.chordal_tolerance, true));
+  }
+  BooleanResult cut = mesh_boolean(result.mesh, bores, BooleanOp::Difference, quick);
+  result.perturbed_operations += cut.attempts > 1;
+  std::vector<std::uint8_t> from_tube(cut.mesh.face_count());
+  for (Index f = 0; f < cut.mesh.face_count(); ++f)
+    from_tube[f] = cut.from_b[f] ? 1 : result.from_tube[cut.source_face[f]];
+  result.mesh = std::move(cut.mesh);
+  result.from_tube = std::move(from_tube);
+  result.bore_seconds = seconds_since(t1);
+  result.seconds = seconds_since(t0);
+  return result;
+}
+
+} // namespace st

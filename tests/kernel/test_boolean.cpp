@@ -1,0 +1,147 @@
+// Boolean operations by corefinement: closed-form shapes whose volumes are known, contacts in special
+// position, and bad operands.
+
+#include "helpers.h"
+
+#include "st/boolean.h"
+#include "st/errors.h"
+#include "st/sleeve.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+namespace st {
+namespace {
+
+TriangleMesh make_box(const Vec3& lo, const Vec3& hi) {
+  TriangleMesh m;
+  for (int i = 0; i < 8; ++i)
+    m.positions.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  // Outward faces, two triangles each.
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    m.triangles.push_back({Index(q[0]), Index(q[1]), Index(q[2])});
+    m.triangles.push_back({Index(q[0]), Index(q[2]), Index(q[3])});
+  }
+  return m;
+}
+
+void expect_valid(const TriangleMesh& mesh, std::size_t components = 1) {
+  const SolidReport r = check_solid(mesh);
+  EXPECT_TRUE(r.valid()) << r.summary();
+  EXPECT_EQ(r.components, components) << r.summary();
+}
+
+TEST(Boolean, OverlappingSpheresKeepTheVolumeIdentity) {
+  const TriangleMesh a = test::make_icosphere(10.0, 3);
+  const TriangleMesh b = test::make_icosphere(7.0, 3, Vec3(8.3, 1.1, -0.7));
+  const double va = signed_volume(a), vb = signed_volume(b);
+  const BooleanResult u = mesh_boolean(a, b, BooleanOp::Union);
+  const BooleanResult i = mesh_boolean(a, b, BooleanOp::Intersection);
+  const BooleanResult d = mesh_boolean(a, b, BooleanOp::Difference);
+  expect_valid(u.mesh);
+  expect_valid(i.mesh);
+  expect_valid(d.mesh);
+  const double vu = signed_volume(u.mesh), vi = signed_volume(i.mesh), vd = signed_volume(d.mesh);
+  EXPECT_GT(vi, 0.05 * vb);
+  // The pieces are the operands' own faces split exactly along one curve: the identities hold up to
+  // the float32 rounding of the result.
+  EXPECT_NEAR(vu + vi, va + vb, 1e-4 * (va + vb));
+  EXPECT_NEAR(vd, va - vi, 1e-4 * va);
+  EXPECT_GT(u.curve_segments, 50u);
+}
+
+TEST(Boolean, SleeveThroughASlabLeavesABore) {
+  const TriangleMesh slab = make_box(Vec3(-10, -10, 0), Vec3(10, 10, 3));
+  const Cylinder bore{Vec3(0.3, -0.2, -2.0), Vec3(0.1, 0.05, 1.0).normalized(), 1.2, 8.0};
+  const TriangleMesh drill = cylinder_mesh(bore, 0.005);
+  const BooleanResult r = mesh_boolean(slab, drill, BooleanOp::Difference);
+  expect_valid(r.mesh);
+  // Genus 1 now: V - E + F = 0.
+  const std::size_t f = r.mesh.face_count(), e = 3 * f / 2;
+  EXPECT_EQ(static_cast<long>(r.mesh.vertex_count()) - static_cast<long>(e) + static_cast<long>(f), 0);
+  // Volume: the slab minus the prism's cross-section over the slab's height / cos(tilt).
+  const int n = circle_segments(1.2, 0.005);
+  const double polygon = 0.5 * n * 1.2 * 1.2 * std::sin(2.0 * std::numbers::pi / n);
+  const double expected = 20.0 * 20.0 * 3.0 - polygon * 3.0 / bore.axis.normalized().z();
+  EXPECT_NEAR(signed_volume(r.mesh), expected, 1e-3);
+}
+
+TEST(Boolean, SleeveOnASlabJoinsIt) {
+  const TriangleMesh slab = make_box(Vec3(-10, -10, 0), Vec3(10, 10, 3));
+  const TriangleMesh sleeve = cylinder_mesh({Vec3(1, 2, 1.5), Vec3::UnitZ(), 2.5, 6.0}, 0.01);
+  const BooleanResult r = mesh_boolean(slab, sleeve, BooleanOp::Union);
+  expect_valid(r.mesh);
+  const double va = signed_volume(slab), vb = signed_volume(sleeve);
+  EXPECT_NEAR(signed_volume(r.mesh), va + vb - vb * 1.5 / 6.0, 1e-3);
+}
+
+TEST(Boolean, CoplanarAndTouchingContactsAreResolved) {
+  // Flush faces: the box's top is the cylinder's bottom plane; an edge along an edge.
+  const TriangleMesh slab = make_box(Vec3(-5, -5, 0), Vec3(5, 5, 2));
+  const TriangleMesh flush = cylinder_mesh({Vec3(0, 0, 2), Vec3::UnitZ(), 1.5, 3.0}, 0.01);
+  const BooleanResult u = mesh_boolean(slab, flush, BooleanOp::Union);
+  EXPECT_GT(u.attempts, 1);
+  const SolidReport r = check_solid(u.mesh);
+  EXPECT_TRUE(r.valid()) << r.summary();
+  EXPECT_NEAR(signed_volume(u.mesh), signed_volume(slab) + signed_volume(flush), 1e-2);
+
+  const TriangleMesh same_edge = make_box(Vec3(-5, -5, 0), Vec3(0, 0, 4));
+  const BooleanResult d = mesh_boolean(slab, same_edge, BooleanOp::Difference);
+  const SolidReport rd = check_solid(d.mesh);
+  EXPECT_TRUE(rd.valid()) << rd.summary();
+  EXPECT_NEAR(signed_volume(d.mesh), 10.0 * 10.0 * 2.0 - 5.0 * 5.0 * 2.0, 1e-2);
+}
+
+TEST(Boolean, DisjointAndNestedOperands) {
+  const TriangleMesh a = test::make_icosphere(5.0, 2);
+  const TriangleMesh far = test::make_icosphere(2.0, 2, Vec3(20, 0, 0));
+  const TriangleMesh inner = test::make_icosphere(2.0, 2, Vec3(0.5, 0, 0));
+  expect_valid(mesh_boolean(a, far, BooleanOp::Union).mesh, 2);
+  EXPECT_EQ(mesh_boolean(a, far, BooleanOp::Intersection).mesh.face_count(), 0u);
+  const BooleanResult nested = mesh_boolean(a, inner, BooleanOp::Union);
+  EXPECT_EQ(nested.mesh.face_count(), a.face_count());
+  const BooleanResult hollow = mesh_boolean(a, inner, BooleanOp::Difference);
+  EXPECT_NEAR(signed_volume(hollow.mesh), signed_volume(a) - signed_volume(inner), 1e-3);
+  EXPECT_EQ(check_solid(hollow.mesh).components, 2u);
+}
+
+TEST(Boolean, BadOperandsAreRefusedByName) {
+  const TriangleMesh a = test::make_icosphere(5.0, 1);
+  TriangleMesh open = a;
+  open.triangles.pop_back();
+  EXPECT_THROW(mesh_boolean(a, open, BooleanOp::Union), InvalidInput);
+  try {
+    mesh_boolean(open, a, BooleanOp::Union);
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("first operand"), std::string::npos) << e.what();
+  }
+  TriangleMesh nan = a;
+  nan.positions[3].x() = std::nan("");
+  EXPECT_THROW(mesh_boolean(a, nan, BooleanOp::Difference), InvalidInput);
+  EXPECT_THROW(mesh_boolean(a, TriangleMesh{}, BooleanOp::Union), InvalidInput);
+}
+
+TEST(Boolean, RandomCylindersThroughASphere) {
+  const TriangleMesh ball = test::make_icosphere(8.0, 3);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int k = 0; k < 40; ++k) {
+    const Vec3 dir = Vec3(u(rng), u(rng), u(rng)).normalized();
+    const Vec3 at = 6.0 * Vec3(u(rng), u(rng), u(rng));
+    const Cylinder c{at - 10.0 * dir, dir, 0.5 + 1.5 * (u(rng) + 1.0), 20.0 * (0.3 + 0.5 * (u(rng) + 1.0))};
+    const TriangleMesh tube = cylinder_mesh(c, 0.01);
+    const BooleanResult un = mesh_boolean(ball, tube, BooleanOp::Union);
+    const BooleanResult in = mesh_boolean(ball, tube, BooleanOp::Intersection);
+    const SolidReport r = check_solid(un.mesh);
+    ASSERT_TRUE(r.valid()) << "case " << k << ": " << r.summary();
+    const double vu = signed_volume(un.mesh), vi = in.mesh.empty() ? 0.0 : signed_volume(in.mesh);
+    EXPECT_NEAR(vu + vi, signed_volume(ball) + signed_volume(tube), 1e-3) << "case " << k;
+  }
+}
+
+} // namespace
+} // namespace st
