@@ -10,6 +10,8 @@
 #include "detail/format.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -567,6 +569,7 @@ BooleanResult mesh_boolean(const TriangleMesh& a, const TriangleMesh& b, Boolean
       return result;
     } catch (const Degenerate& d) {
       last_reason = d.why;
+      if (std::getenv("ST_DEBUG_BOOLEAN")) std::fprintf(stderr, "boolean attempt %d: %s\n", attempt + 1, d.why.c_str());
     }
   }
   throw GeometryError("Boolean operation: the operands touch in a way that stays degenerate after " +

@@ -1,0 +1,278 @@
+// The guide with its drilling tubes (guide.h) on the example cases and on synthetic bones: one valid
+// solid, sleeve material where planned, the bore open along the axis, nothing inside the bone, and
+// the template elsewhere as it was.
+
+#include "helpers.h"
+
+#include "st/aabb_tree.h"
+#include "st/case_file.h"
+#include "st/errors.h"
+#include "st/guide.h"
+#include "st/mesh_io.h"
+#include "st/sleeve.h"
+#include "st/template_design.h"
+#include "st/triangle_intersection.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <set>
+
+namespace st {
+namespace {
+
+double segment_segment_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1) {
+  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r), c = d1.dot(r), b = d1.dot(d2);
+  const double denom = a * e - b * b;
+  double s = denom > 1e-300 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+  double t = (b * s + f) / e;
+  if (t < 0.0) {
+    t = 0.0;
+    s = std::clamp(-c / a, 0.0, 1.0);
+  } else if (t > 1.0) {
+    t = 1.0;
+    s = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+  return (p0 + s * d1 - (q0 + t * d2)).norm();
+}
+
+double segment_triangle_distance(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b, const Vec3& c) {
+  if (segment_intersects_triangle(p0, p1, a, b, c)) return 0.0;
+  double d = std::min((closest_point_on_triangle(p0, a, b, c) - p0).norm(),
+                      (closest_point_on_triangle(p1, a, b, c) - p1).norm());
+  d = std::min(d, segment_segment_distance(p0, p1, a, b));
+  d = std::min(d, segment_segment_distance(p0, p1, b, c));
+  return std::min(d, segment_segment_distance(p0, p1, c, a));
+}
+
+// Generalised winding number: 1 inside a closed outward mesh, 0 outside.
+double winding_number(const TriangleMesh& mesh, const Vec3& p) {
+  double sum = 0.0;
+  for (const Triangle& t : mesh.triangles) {
+    const Vec3 a = mesh.positions[t[0]] - p, b = mesh.positions[t[1]] - p, c = mesh.positions[t[2]] - p;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    const double num = a.dot(b.cross(c));
+    const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+    sum += 2.0 * std::atan2(num, den);
+  }
+  return sum / (4.0 * std::numbers::pi);
+}
+
+// Depth of p inside the bone (0 outside): distance to the closest bone face when p lies behind it.
+double depth_in_bone(const AabbTree& bone, const Vec3& p) {
+  const auto c = bone.closest_point(p);
+  if (!c) return 0.0;
+  const Vec3 n = triangle_normal(bone.mesh(), c->face);
+  return (p - c->point).dot(n) < 0.0 ? c->distance : 0.0;
+}
+
+struct GuideCheck {
+  const TriangleMesh& bone;
+  const AabbTree bone_tree;
+  explicit GuideCheck(const TriangleMesh& b) : bone(b), bone_tree(b) {}
+
+  void expect_guide(const TemplateResult& r, const std::vector<TubeSpec>& tubes, double clearance) const {
+    const SolidReport solid = check_solid(r.shell);
+    ASSERT_TRUE(solid.valid()) << solid.summary();
+    EXPECT_EQ(solid.components, 1u) << solid.summary();
+    ASSERT_EQ(r.tubes.size(), tubes.size());
+    ASSERT_EQ(r.from_tube.size(), r.shell.face_count());
+    const AabbTree guide_tree(r.shell);
+    for (std::size_t i = 0; i < tubes.size(); ++i) {
+      const TubeSpec& tube = tubes[i];
+      const TubePlacement& p = r.tubes[i];
+      SCOPED_TRACE("tube " + tube.name);
+      // The bore: no face comes closer to the axis than the bore radius, from the bone to the top.
+      const double z0 = std::min(0.0, p.template_bottom), z1 = std::max(p.sleeve_top, p.template_top);
+      const Vec3 a0 = tube_point(tube, z0), a1 = tube_point(tube, z1);
+      BoundingBox box;
+      box.extend(a0);
+      box.extend(a1);
+      double nearest = 1e300;
+      guide_tree.for_each_in_box(box.inflated(tube.inner_radius), [&](Index f) {
+        const Triangle& t = r.shell.triangles[f];
+        nearest = std::min(nearest, segment_triangle_distance(a0, a1, r.shell.positions[t[0]],
+                                                              r.shell.positions[t[1]], r.shell.positions[t[2]]));
+      });
+      // 1 um: a Boolean operation that met a degenerate contact moved its operand by a few float ulp.
+      EXPECT_GE(nearest, tube.inner_radius - 1e-3) << "the bore is not open";
+      // Sleeve material between the radii over [offset, offset + length], except where the bone is.
+      Vec3 u, v;
+      orthonormal_frame(tube_axis(tube), u, v);
+      int present = 0, in_bone = 0, missing = 0;
+      for (int k = 0; k < 8; ++k)
+        for (int h = 0; h <= 4; ++h) {
+          const double angle = 2.0 * std::numbers::pi * (k + 0.5) / 8.0;
+          const double z = p.sleeve_bottom + (p.sleeve_top - p.sleeve_bottom) * (0.02 + 0.96 * h / 4.0);
+          const Vec3 q = tube_point(tube, z) + 0.5 * (tube.inner_radius + tube.outer_radius) *
+                                                   (std::cos(angle) * u + std::sin(angle) * v);
+          if (winding_number(r.shell, q) > 0.5) ++present;
+          else if (depth_in_bone(bone_tree, q) > 0.0 || bone_tree.closest_point(q)->distance <= clearance + 0.05)
+            ++in_bone;
+          else ++missing;
+        }
+      EXPECT_EQ(missing, 0) << present << " samples in the sleeve, " << in_bone << " in the bone";
+      EXPECT_GT(present, 20);
+    }
+    // Nothing of the sleeves inside the bone.
+    double deepest = 0.0;
+    for (Index f = 0; f < r.shell.face_count(); ++f) {
+      if (!r.from_tube[f]) continue;
+      for (Index w : r.shell.triangles[f]) deepest = std::max(deepest, depth_in_bone(bone_tree, r.shell.positions[w]));
+    }
+    EXPECT_LT(deepest, 1e-3) << "a sleeve enters the bone";
+    // Elsewhere the template is the body as it was: every body face far from the tubes is in the guide.
+    std::set<std::array<float, 9>> guide_faces;
+    auto key = [](const TriangleMesh& m, Index f) {
+      std::array<float, 9> k{};
+      for (int c = 0; c < 3; ++c)
+        for (int d = 0; d < 3; ++d) k[3 * c + d] = static_cast<float>(m.positions[m.triangles[f][c]][d]);
+      return k;
+    };
+    for (Index f = 0; f < r.shell.face_count(); ++f) guide_faces.insert(key(r.shell, f));
+    std::size_t far = 0, kept = 0;
+    for (Index f = 0; f < r.body.face_count(); ++f) {
+      const Vec3 c = (r.body.positions[r.body.triangles[f][0]] + r.body.positions[r.body.triangles[f][1]] +
+                      r.body.positions[r.body.triangles[f][2]]) / 3.0;
+      bool near_tube = false;
+      for (const TubeSpec& t : tubes) {
+        const Vec3 d = c - t.entry, axis = tube_axis(t);
+        near_tube |= (d - d.dot(axis) * axis).norm() < t.outer_radius + 1.0;
+      }
+      if (near_tube) continue;
+      ++far;
+      kept += guide_faces.count(key(r.body, f));
+    }
+    EXPECT_EQ(kept, far);
+  }
+};
+
+class GuideExample : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(GuideExample, SleevesJoinedBoresOpenNothingInTheBone) {
+  const CaseFile c = read_case(test::examples_dir() + "/cases/" + GetParam() + ".json");
+  ASSERT_FALSE(c.tubes.empty());
+  const TriangleMesh bone = read_mesh(c.bone);
+  TemplateOptions o;
+  o.boundary_points = c.boundary_points;
+  o.inside = c.inside;
+  o.thickness = c.thickness;
+  o.clearance = c.clearance;
+  o.resolution = c.resolution.value_or(0.0);
+  o.sampling_step = c.sampling_step.value_or(0);
+  o.tubes = c.tubes;
+  const TemplateResult r = design_template(bone, o);
+  GuideCheck(bone).expect_guide(r, c.tubes, c.clearance);
+  // The fit of the template body is untouched by the tubes.
+  EXPECT_LT(r.fit.outer_to_inner.max, c.thickness + r.resolution);
+  write_stl(r.shell, test::output_dir() + "/guide-" + GetParam() + ".stl");
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, GuideExample,
+                         ::testing::Values("maxilla-implants", "vertebra-pedicle", "sacrum-iliosacral"));
+
+// A smooth bump: a template on its top, tubes in special positions.
+struct Bump : ::testing::Test {
+  TriangleMesh bone = test::make_height_field(-20, 20, -20, 20, 80, [](double x, double y) {
+    return 6.0 * std::exp(-(x * x + y * y) / 150.0);
+  });
+  TemplateOptions options() const {
+    TemplateOptions o;
+    o.boundary_points = {{-12, -12, 0}, {12, -12, 0}, {12, 12, 0}, {-12, 12, 0}};
+    o.inside = Vec3(0, 0, 6);
+    o.thickness = 2.0;
+    o.resolution = 0.25;
+    return o;
+  }
+  static TubeSpec tube(const std::string& name, const Vec3& entry, const Vec3& direction, double offset = 2.0,
+                       double length = 6.0) {
+    TubeSpec t;
+    t.name = name;
+    t.entry = entry;
+    t.direction = direction.normalized();
+    t.inner_radius = 1.0;
+    t.outer_radius = 2.2;
+    t.length = length;
+    t.offset = offset;
+    return t;
+  }
+};
+
+TEST_F(Bump, TubesInSpecialPositions) {
+  TemplateOptions o = options();
+  const double top = 6.0;
+  o.tubes = {
+      tube("through a vertex", Vec3(0, 0, top), -Vec3::UnitZ()),       // the axis through a grid vertex
+      tube("along edges", Vec3(5, 5, 6.0 * std::exp(-50.0 / 150.0)), Vec3(-1, -1, -2)), // over a diagonal
+      tube("flush", Vec3(-6, 3, 6.0 * std::exp(-45.0 / 150.0)), -Vec3::UnitZ(), 0.0, 2.0), // bottom on the bone
+      tube("steep", Vec3(6, -5, 6.0 * std::exp(-61.0 / 150.0)), Vec3(-0.2, 1.0, -0.45), 1.0, 9.0),
+  };
+  const TemplateResult r = design_template(bone, o);
+  GuideCheck(bone).expect_guide(r, o.tubes, 0.0);
+}
+
+TEST_F(Bump, OverlappingSleevesMergeIntoOneSolid) {
+  TemplateOptions o = options();
+  for (int k = 0; k < 4; ++k) {
+    const double x = -4.5 + 3.0 * k; // 3 mm apart, outer radius 2.2: walls overlap
+    o.tubes.push_back(tube("T" + std::to_string(k), Vec3(x, 0, 6.0 * std::exp(-x * x / 150.0)),
+                           Vec3(0.05 * (k - 1.5), 0.02 * k, -1.0)));
+  }
+  const TemplateResult r = design_template(bone, o);
+  GuideCheck(bone).expect_guide(r, o.tubes, 0.0);
+}
+
+TEST_F(Bump, SleeveInsideTheWallStillGetsItsBore) {
+  TemplateOptions o = options();
+  o.thickness = 4.0;
+  o.tubes = {tube("inside", Vec3(0, 0, 6.0), -Vec3::UnitZ(), 0.5, 2.0)};
+  o.tubes[0].inner_radius = 0.8;
+  o.tubes[0].outer_radius = 1.5;
+  const TemplateResult r = design_template(bone, o);
+  EXPECT_TRUE(r.tubes[0].sleeve_inside_template);
+  GuideCheck(bone).expect_guide(r, o.tubes, 0.0);
+  EXPECT_LT(check_solid(r.shell).volume, check_solid(r.body).volume); // only the bore changed it
+}
+
+TEST_F(Bump, TubeThatMissesTheTemplateIsNamed) {
+  TemplateOptions o = options();
+  o.tubes = {tube("far away", Vec3(40, 40, 0), -Vec3::UnitZ())};
+  try {
+    design_template(bone, o);
+    FAIL() << "expected a GeometryError";
+  } catch (const GeometryError& e) {
+    EXPECT_NE(std::string(e.what()).find("far away"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("misses"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(Bump, BadTubeNumbersAreRefusedByName) {
+  auto refused = [&](TubeSpec t, const std::string& key) {
+    TemplateOptions o = options();
+    o.tubes = {t};
+    try {
+      design_template(bone, o);
+      ADD_FAILURE() << "expected InvalidInput for " << key;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    }
+  };
+  TubeSpec t = tube("bad", Vec3(0, 0, 6), -Vec3::UnitZ());
+  TubeSpec zero = t;
+  zero.direction = Vec3::Zero();
+  refused(zero, "direction");
+  TubeSpec radii = t;
+  radii.outer_radius = 0.5;
+  refused(radii, "outer_radius");
+  TubeSpec nan = t;
+  nan.length = std::nan("");
+  refused(nan, "length");
+  TubeSpec negative = t;
+  negative.offset = -1.0;
+  refused(negative, "offset");
+}
+
+} // namespace
+} // namespace st
