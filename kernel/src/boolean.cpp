@@ -9,6 +9,8 @@
 
 #include "detail/format.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -82,33 +84,93 @@ struct Verdict {
   int inside = -1;                 // decision: 1 inside, 0 outside
 };
 
-std::vector<BoundingBox> component_boxes(const TriangleMesh& mesh) {
+// An oriented box around one connected component: its principal axes and extents, and the
+// axis-aligned box for a quick first test. A tilted cylinder's oriented box is tight where its
+// axis-aligned box is mostly empty, so far fewer faces of the other operand count as near.
+struct OrientedBox {
+  BoundingBox world;
+  Eigen::Matrix3d axes; // rows: unit axes
+  Vec3 centre = Vec3::Zero();
+  Vec3 half = Vec3::Zero();
+
+  bool overlaps(const std::array<Vec3, 3>& t, double margin) const {
+    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+    for (const Vec3& p : t) {
+      const Vec3 q = axes * (p - centre);
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    return (lo.array() <= half.array() + margin).all() && (hi.array() >= -half.array() - margin).all();
+  }
+};
+
+std::vector<OrientedBox> component_boxes(const TriangleMesh& mesh) {
   Components uf(mesh.vertex_count());
   for (const Triangle& t : mesh.triangles) {
     uf.join(t[0], t[1]);
     uf.join(t[1], t[2]);
   }
-  std::unordered_map<Index, BoundingBox> boxes;
+  std::unordered_map<Index, std::vector<Index>> members;
+  std::vector<std::uint8_t> used(mesh.vertex_count(), 0);
   for (const Triangle& t : mesh.triangles)
-    for (Index v : t) boxes[uf.find(v)].extend(mesh.positions[v]);
-  std::vector<BoundingBox> out;
-  for (auto& [root, box] : boxes) out.push_back(box);
-  std::sort(out.begin(), out.end(), [](const BoundingBox& a, const BoundingBox& b) {
-    return std::tie(a.min[0], a.min[1], a.min[2]) < std::tie(b.min[0], b.min[1], b.min[2]);
+    for (Index v : t)
+      if (!used[v]) {
+        used[v] = 1;
+        members[uf.find(v)].push_back(v);
+      }
+  std::vector<OrientedBox> out;
+  for (auto& [root, vertices] : members) {
+    OrientedBox box;
+    Vec3 mean = Vec3::Zero();
+    for (Index v : vertices) {
+      mean += mesh.positions[v];
+      box.world.extend(mesh.positions[v]);
+    }
+    mean /= static_cast<double>(vertices.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (Index v : vertices) {
+      const Vec3 d = mesh.positions[v] - mean;
+      cov += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(cov);
+    box.axes = eigen.eigenvectors().transpose();
+    if (!box.axes.allFinite()) box.axes.setIdentity();
+    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+    for (Index v : vertices) {
+      const Vec3 q = box.axes * (mesh.positions[v] - mean);
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    box.centre = mean + box.axes.transpose() * (0.5 * (lo + hi));
+    box.half = 0.5 * (hi - lo);
+    out.push_back(box);
+  }
+  std::sort(out.begin(), out.end(), [](const OrientedBox& a, const OrientedBox& b) {
+    return std::tie(a.world.min[0], a.world.min[1], a.world.min[2]) <
+           std::tie(b.world.min[0], b.world.min[1], b.world.min[2]);
   });
   return out;
 }
 
-// Faces whose box overlaps one of `boxes`: every face that can meet or lie inside the other operand.
-std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<BoundingBox>& boxes) {
+// Faces that meet one of `boxes`: every face that can cross or lie inside the other operand. The
+// margin covers the rounding of the box's frame.
+std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<OrientedBox>& boxes) {
   BoundingBox all;
-  for (const BoundingBox& b : boxes) all.extend(b);
+  double size = 0.0;
+  for (const OrientedBox& b : boxes) {
+    all.extend(b.world);
+    size = std::max(size, b.world.diagonal());
+  }
+  const double margin = 1e-9 * (size + all.max.cwiseAbs().maxCoeff() + all.min.cwiseAbs().maxCoeff());
+  all = all.inflated(margin);
   std::vector<Index> out;
   for (Index f = 0; f < mesh.face_count(); ++f) {
     const BoundingBox box = triangle_box(mesh, f);
     if (!box.overlaps(all)) continue;
-    for (const BoundingBox& b : boxes)
-      if (box.overlaps(b)) {
+    const Triangle& t = mesh.triangles[f];
+    const std::array<Vec3, 3> corners = {mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]};
+    for (const OrientedBox& b : boxes)
+      if (box.overlaps(b.world.inflated(margin)) && b.overlaps(corners, margin)) {
         out.push_back(f);
         break;
       }
@@ -162,11 +224,24 @@ public:
       : a_(a), b_(b), options_(options), na_(a.vertex_count()), nb_(b.vertex_count()) {}
 
   BooleanResult run(BooleanOp op) {
+    const bool debug = std::getenv("ST_DEBUG_BOOLEAN") != nullptr;
+    auto t = std::chrono::steady_clock::now();
+    auto lap = [&](const char* what) {
+      if (!debug) return;
+      const auto now = std::chrono::steady_clock::now();
+      std::fprintf(stderr, "  %-10s %.4f s\n", what, std::chrono::duration<double>(now - t).count());
+      t = now;
+    };
     find_segments();
+    lap("segments");
     split_faces();
+    lap("split");
     for (int s = 0; s < 2; ++s) collect_pieces(s);
     for (int s = 0; s < 2; ++s) classify(s);
-    return assemble(op);
+    lap("classify");
+    BooleanResult result = assemble(op);
+    lap("assemble");
+    return result;
   }
 
 private:
@@ -214,8 +289,19 @@ private:
   }
 
   void find_segments() {
-    const std::vector<Index> near_a = faces_near(a_, component_boxes(b_));
-    const std::vector<Index> near_b = faces_near(b_, component_boxes(a_));
+    // Oriented boxes around the smaller operand's components select the other's near faces tightly;
+    // the larger operand's axis-aligned box is enough the other way (and costs no pass over it).
+    auto whole_box = [](const TriangleMesh& m) {
+      OrientedBox box;
+      box.world = bounding_box(m);
+      box.axes.setIdentity();
+      box.centre = box.world.center();
+      box.half = 0.5 * box.world.size();
+      return std::vector<OrientedBox>{box};
+    };
+    const bool a_smaller = a_.face_count() < b_.face_count();
+    const std::vector<Index> near_a = faces_near(a_, a_smaller ? whole_box(b_) : component_boxes(b_));
+    const std::vector<Index> near_b = faces_near(b_, a_smaller ? component_boxes(a_) : whole_box(a_));
     local_[0].assign(a_.face_count(), 0);
     local_[1].assign(b_.face_count(), 0);
     for (Index f : near_a) local_[0][f] = 1;
@@ -442,7 +528,10 @@ private:
     };
     // Faces far from the other operand are outside it.
     const Verdict far_outside{.exterior = true, .inside = 0};
-    std::vector<Index> fresh; // result faces that come from the pieces, checked after rounding
+    // Faces made or moved here (split pieces, and all of the second operand, whose coordinates are
+    // rounded now) are checked after rounding; unsplit local faces of the first operand only where
+    // they touch those.
+    std::vector<Index> fresh, unchanged;
     for (int s = 0; s < 2; ++s) {
       const bool reverse = op == BooleanOp::Difference && s == 1;
       const TriangleMesh& m = mesh(s);
@@ -458,11 +547,14 @@ private:
         const Index c = component_of(s, i);
         if (kept[c] < 0) kept[c] = keep(s, verdicts_[s][c], op) ? 1 : 0;
         if (!kept[c]) continue;
-        fresh.push_back(out.face_count());
+        (s == 1 || split_[s].count(pieces_[s][i].source) ? fresh : unchanged).push_back(out.face_count());
         emit(pieces_[s][i].t, reverse, static_cast<std::uint8_t>(s), pieces_[s][i].source);
       }
     }
-    check_fresh(out, fresh);
+    if (std::getenv("ST_DEBUG_BOOLEAN"))
+      std::fprintf(stderr, "  local faces %zu + %zu, pairs %zu, fresh %zu\n", pieces_[0].size(), pieces_[1].size(),
+                   seam_.size(), fresh.size());
+    check_fresh(out, fresh, unchanged);
     result.intersecting_pairs = seam_.size();
     result.curve_segments = seam_.size();
     result.split_faces = split_[0].size() + split_[1].size();
@@ -471,8 +563,9 @@ private:
 
   Index component_of(int s, std::size_t piece) const { return components_[s][piece]; }
 
-  // After rounding, the faces near the curves must still be proper triangles that do not cross.
-  void check_fresh(const TriangleMesh& out, const std::vector<Index>& fresh) const {
+  // After rounding, the faces near the curves must still be proper triangles that do not cross each
+  // other or the unchanged faces around them.
+  void check_fresh(const TriangleMesh& out, const std::vector<Index>& fresh, const std::vector<Index>& unchanged) const {
     for (Index f : fresh) {
       const Triangle& t = out.triangles[f];
       if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) throw Degenerate{"two corners rounded together"};
@@ -480,14 +573,23 @@ private:
       if (n.squaredNorm() == 0.0) throw Degenerate{"a triangle rounded flat"};
     }
     if (fresh.empty()) return;
-    const AabbTree tree(out, fresh);
-    tree.for_each_overlapping_pair([&](Index f, Index g) {
+    auto test = [&](Index f, Index g) {
       const Triangle &ta = out.triangles[f], &tb = out.triangles[g];
       const std::array<Vec3, 3> pa = {out.positions[ta[0]], out.positions[ta[1]], out.positions[ta[2]]};
       const std::array<Vec3, 3> pb = {out.positions[tb[0]], out.positions[tb[1]], out.positions[tb[2]]};
       if (mesh_triangles_intersect(ta, pa, tb, pb))
         throw Degenerate{"faces near the intersection curve cross after rounding, near " + detail::where(pa[0])};
-    });
+    };
+    const AabbTree tree(out, fresh);
+    tree.for_each_overlapping_pair(test);
+    std::vector<std::uint8_t> touched(out.vertex_count(), 0);
+    for (Index f : fresh)
+      for (Index v : out.triangles[f]) touched[v] = 1;
+    for (Index g : unchanged) {
+      const Triangle& t = out.triangles[g];
+      if (!touched[t[0]] && !touched[t[1]] && !touched[t[2]]) continue;
+      tree.for_each_in_box(triangle_box(out, g), [&](Index f) { test(f, g); });
+    }
   }
 
   const TriangleMesh& a_;

@@ -99,9 +99,11 @@ TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const Trian
                         (closest ? detail::mm(closest->distance) : std::string("far")) + " from the entry " +
                         detail::where(tube.entry));
   }
-  // The column reaches down into the middle of the template wall, or to the sleeve's planned lower
-  // end if that is lower; where the sleeve overhangs the template's rim it must stay above the bone.
-  double column = std::min(*middle, p.sleeve_bottom);
+  // The column reaches down into the middle of the template wall (at the lowest sample, so it stands
+  // in the template all around). Not lower, even where the sleeve is planned lower: below that the
+  // template body is the material, and beyond its inner surface lie clearance and bone. Where the
+  // sleeve overhangs the template's rim the column must stay above the bone.
+  double column = *middle;
   std::optional<AabbTree> bone_tree;
   for (const Sample& s : samples) {
     if (s.enter || s.radius < tube.outer_radius) continue;
@@ -145,6 +147,7 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
     all = r.mesh;
   };
   for (const TubeSpec& tube : tubes) result.tubes.push_back(place(tube, shell, bone, options));
+  result.placement_seconds = seconds_since(t0);
 
   // Columns (each sleeve's outer cylinder from inside the template wall to the sleeve's top), united
   // with each other (neighbouring sleeves may overlap) and then with the shell, on its seat.
@@ -155,6 +158,7 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
     unite(columns, cylinder_mesh(tube_cylinder(tubes[i], tubes[i].outer_radius, p.column_bottom, p.sleeve_top),
                                  options.chordal_tolerance));
   }
+  result.columns_seconds = seconds_since(t0) - result.placement_seconds;
   if (!columns.empty()) {
     BooleanOptions o = quick;
     o.seat.assign(shell.face_count(), 0);
