@@ -8,10 +8,20 @@ namespace py = pybind11;
 void bind_mesh(py::module_& m);
 void bind_template(py::module_& m);
 void bind_case(py::module_& m);
+#ifdef ST_HAVE_OCCT
+void bind_occt(py::module_& m);
+#endif
 
 PYBIND11_MODULE(stkernel, m) {
   m.doc() = "Surgical template mesh kernel: boundary curves, cuts, offsets, ruled walls, solid checks";
   bind_mesh(m);
   bind_template(m);
   bind_case(m);
+  // The OpenCASCADE sleeves are an optional part of the build (ST_WITH_OCCT); callers test has_occt.
+#ifdef ST_HAVE_OCCT
+  m.attr("has_occt") = true;
+  bind_occt(m);
+#else
+  m.attr("has_occt") = false;
+#endif
 }

@@ -81,6 +81,8 @@ struct Verdict {
   bool on_seat_curve = false;      // bounded by curves on seat faces
   bool on_other_curve = false;     // bounded by curves on other faces
   bool all_seat = true;            // every piece lies on a seat face
+  bool seat_keep = false;          // first operand, inside the second, kept as the seat (union)
+  bool seat_drop = false;          // second operand, outside the first, dropped beyond the seat (union)
   int inside = -1;                 // decision: 1 inside, 0 outside
 };
 
@@ -220,8 +222,8 @@ bool inside_by_rays(const Vec3& p, const TriangleMesh& mesh) {
 
 class Corefinement {
 public:
-  Corefinement(const TriangleMesh& a, const TriangleMesh& b, const BooleanOptions& options)
-      : a_(a), b_(b), options_(options), na_(a.vertex_count()), nb_(b.vertex_count()) {}
+  Corefinement(const TriangleMesh& a, const TriangleMesh& b, const BooleanOptions& options, double short_edge)
+      : a_(a), b_(b), options_(options), na_(a.vertex_count()), nb_(b.vertex_count()), short_edge_(short_edge) {}
 
   BooleanResult run(BooleanOp op) {
     const bool debug = std::getenv("ST_DEBUG_BOOLEAN") != nullptr;
@@ -238,6 +240,7 @@ public:
     lap("split");
     for (int s = 0; s < 2; ++s) collect_pieces(s);
     for (int s = 0; s < 2; ++s) classify(s);
+    if (op == BooleanOp::Union && !options_.seat.empty()) resolve_seat();
     lap("classify");
     BooleanResult result = assemble(op);
     lap("assemble");
@@ -275,7 +278,10 @@ private:
     const double t = dp / (dp - dq);
     if (!(t > 0.0 && t < 1.0)) throw Degenerate{"a crossing at an edge's end"};
     const Index id = static_cast<Index>(points_.size());
-    points_.push_back(p + t * (q - p));
+    Vec3 at = p + t * (q - p);
+    // Rounded now, so that every face is triangulated with the coordinates the result will hold.
+    if (options_.round_to_float) at = at.cast<float>().cast<double>();
+    points_.push_back(at);
     point_t_.push_back(t);
     point_index_.emplace(key, id);
     t_canonical = t;
@@ -413,7 +419,7 @@ private:
     std::sort(edges.begin(), edges.end());
     Components uf(n);
     std::vector<std::uint8_t> touches_outside(n, 0);
-    std::unordered_map<std::uint64_t, std::array<Index, 2>> seam_pieces;
+    std::unordered_map<std::uint64_t, std::array<Index, 2>>& seam_pieces = seam_pieces_[s];
     for (std::size_t i = 0; i < edges.size();) {
       std::size_t j = i;
       while (j < edges.size() && edges[j].first == edges[i].first) ++j;
@@ -486,19 +492,44 @@ private:
     }
   }
 
+  // The seat (union only): a piece of the second operand outside the first whose curves all lie on
+  // seat faces is beyond the seat and dropped, and the seat faces inside the second operand stay
+  // instead. The two decisions must agree along every curve they share; where they cannot (a piece
+  // that also passes beside the seat), both fall back to the plain union, which keeps the result
+  // closed. Decided to a fixed point: flags only ever go from true to false.
+  void resolve_seat() {
+    for (Verdict& v : verdicts_[0]) v.seat_keep = v.inside == 1 && v.all_seat;
+    for (Verdict& v : verdicts_[1]) v.seat_drop = v.inside == 0 && v.on_seat_curve && !v.on_other_curve;
+    std::vector<std::pair<Index, Index>> pairs; // (first's inside component, second's outside component)
+    for (const SeamSegment& g : seam_) {
+      const std::uint64_t key = edge_key(g.p, g.q);
+      Index a_in = kInvalidIndex, b_out = kInvalidIndex;
+      for (Index piece : seam_pieces_[0].at(key))
+        if (verdicts_[0][components_[0][piece]].inside == 1) a_in = components_[0][piece];
+      for (Index piece : seam_pieces_[1].at(key))
+        if (verdicts_[1][components_[1][piece]].inside == 0) b_out = components_[1][piece];
+      if (a_in != kInvalidIndex && b_out != kInvalidIndex) pairs.emplace_back(a_in, b_out);
+    }
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (const auto& [a, b] : pairs) {
+        Verdict &va = verdicts_[0][a], &vb = verdicts_[1][b];
+        if (va.seat_keep != vb.seat_drop) {
+          va.seat_keep = vb.seat_drop = false;
+          changed = true;
+        }
+      }
+    }
+  }
+
   bool keep(int s, const Verdict& v, BooleanOp op) const {
     const bool inside = v.inside == 1;
     switch (op) {
     case BooleanOp::Union:
-      if (!options_.seat.empty()) {
-        if (s == 0 && inside && v.all_seat) return true;
-        if (s == 1 && !inside && v.on_seat_curve) {
-          if (v.on_other_curve)
-            throw GeometryError("the second operand passes below the seat and beside it at once "
-                                "(e.g. a sleeve across the template's rim, under its inner surface)");
-          return false;
-        }
-      }
+      if (s == 0 && inside && v.seat_keep) return true;
+      if (s == 1 && !inside && v.seat_drop) return false;
       return !inside;
     case BooleanOp::Intersection: return inside;
     case BooleanOp::Difference: return s == 0 ? !inside : inside;
@@ -554,6 +585,14 @@ private:
     if (std::getenv("ST_DEBUG_BOOLEAN"))
       std::fprintf(stderr, "  local faces %zu + %zu, pairs %zu, fresh %zu\n", pieces_[0].size(), pieces_[1].size(),
                    seam_.size(), fresh.size());
+    if (options_.round_to_float) {
+      std::vector<std::uint8_t> seam_vertex(out.vertex_count(), 0);
+      for (std::size_t id = na_ + nb_; id < total; ++id)
+        if (remap[id] != kInvalidIndex) seam_vertex[remap[id]] = 1;
+      result.collapsed_edges = collapse_short_edges(result, seam_vertex, short_edge_, fresh, unchanged);
+      if (std::getenv("ST_DEBUG_BOOLEAN"))
+        std::fprintf(stderr, "  collapsed %zu edges under %.3g\n", result.collapsed_edges, short_edge_);
+    }
     check_fresh(out, fresh, unchanged);
     result.intersecting_pairs = seam_.size();
     result.curve_segments = seam_.size();
@@ -562,6 +601,118 @@ private:
   }
 
   Index component_of(int s, std::size_t piece) const { return components_[s][piece]; }
+
+  // A curve point within a few hundred float ulp of a neighbour makes sliver faces whose planes turn
+  // by whole degrees when their corners are rounded to float32, enough for two nearly tangent faces
+  // to cross. Such edges are collapsed onto their other end (the original vertex when one is), which
+  // moves the curve by less than their length; the link condition keeps the mesh 2-manifold and no
+  // face may turn over. Returns the number of collapses; `fresh` and `unchanged` follow the faces.
+  static std::size_t collapse_short_edges(BooleanResult& r, const std::vector<std::uint8_t>& seam_vertex,
+                                          double min_length, std::vector<Index>& fresh, std::vector<Index>& unchanged) {
+    TriangleMesh& m = r.mesh;
+    std::vector<std::pair<double, std::pair<Index, Index>>> edges;
+    for (Index f : fresh)
+      for (int k = 0; k < 3; ++k) {
+        const Index u = m.triangles[f][k], v = m.triangles[f][(k + 1) % 3];
+        if (u > v || (!seam_vertex[u] && !seam_vertex[v])) continue;
+        const double d2 = (m.positions[u] - m.positions[v]).squaredNorm();
+        if (d2 < min_length * min_length) edges.push_back({d2, {u, v}});
+      }
+    if (edges.empty()) return 0;
+    std::sort(edges.begin(), edges.end());
+    std::unordered_map<Index, std::vector<Index>> faces_of;
+    for (const auto& e : edges) {
+      faces_of[e.second.first];
+      faces_of[e.second.second];
+    }
+    for (Index f = 0; f < m.face_count(); ++f)
+      for (Index v : m.triangles[f]) {
+        const auto it = faces_of.find(v);
+        if (it != faces_of.end()) it->second.push_back(f);
+      }
+    std::vector<std::uint8_t> removed(m.face_count(), 0), gone(m.vertex_count(), 0);
+    std::size_t collapses = 0;
+    auto normal = [&](const Triangle& t) {
+      return (m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]);
+    };
+    for (const auto& e : edges) {
+      Index keep = e.second.first, drop = e.second.second;
+      if (gone[keep] || gone[drop]) continue;
+      if (seam_vertex[keep] && !seam_vertex[drop]) std::swap(keep, drop);
+      std::vector<Index> shared, others;
+      std::vector<Index> around_drop, around_keep;
+      for (Index f : faces_of[drop]) {
+        if (removed[f]) continue;
+        const Triangle& t = m.triangles[f];
+        if (t[0] == keep || t[1] == keep || t[2] == keep) shared.push_back(f);
+        else others.push_back(f);
+        for (Index w : t)
+          if (w != drop) around_drop.push_back(w);
+      }
+      if (shared.size() != 2) continue;
+      for (Index f : faces_of[keep])
+        if (!removed[f])
+          for (Index w : m.triangles[f])
+            if (w != keep) around_keep.push_back(w);
+      std::sort(around_drop.begin(), around_drop.end());
+      around_drop.erase(std::unique(around_drop.begin(), around_drop.end()), around_drop.end());
+      std::sort(around_keep.begin(), around_keep.end());
+      around_keep.erase(std::unique(around_keep.begin(), around_keep.end()), around_keep.end());
+      std::vector<Index> common;
+      std::set_intersection(around_drop.begin(), around_drop.end(), around_keep.begin(), around_keep.end(),
+                            std::back_inserter(common));
+      if (common.size() != 2) continue; // link condition: only the two opposite corners are shared
+      bool turns = false;
+      for (Index f : others) {
+        Triangle t = m.triangles[f];
+        const Vec3 before = normal(t);
+        for (Index& w : t)
+          if (w == drop) w = keep;
+        const Vec3 after = normal(t);
+        if (!(after.dot(before) > 0.0) || after.squaredNorm() == 0.0) turns = true;
+      }
+      if (turns) continue;
+      for (Index f : shared) removed[f] = 1;
+      for (Index f : others) {
+        for (Index& w : m.triangles[f])
+          if (w == drop) w = keep;
+        faces_of[keep].push_back(f);
+      }
+      gone[drop] = 1;
+      ++collapses;
+    }
+    if (collapses == 0) return 0;
+    // Compact faces and vertices.
+    std::vector<Index> new_face(m.face_count(), kInvalidIndex), new_vertex(m.vertex_count(), kInvalidIndex);
+    TriangleMesh compact;
+    std::vector<std::uint8_t> from_b;
+    std::vector<Index> source;
+    for (Index f = 0; f < m.face_count(); ++f) {
+      if (removed[f]) continue;
+      Triangle t = m.triangles[f];
+      for (Index& w : t) {
+        if (new_vertex[w] == kInvalidIndex) {
+          new_vertex[w] = compact.vertex_count();
+          compact.positions.push_back(m.positions[w]);
+        }
+        w = new_vertex[w];
+      }
+      new_face[f] = compact.face_count();
+      compact.triangles.push_back(t);
+      from_b.push_back(r.from_b[f]);
+      source.push_back(r.source_face[f]);
+    }
+    m = std::move(compact);
+    r.from_b = std::move(from_b);
+    r.source_face = std::move(source);
+    for (std::vector<Index>* list : {&fresh, &unchanged}) {
+      std::vector<Index> kept;
+      for (Index f : *list)
+        if (new_face[f] != kInvalidIndex) kept.push_back(new_face[f]);
+      *list = std::move(kept);
+    }
+    return collapses;
+  }
 
   // After rounding, the faces near the curves must still be proper triangles that do not cross each
   // other or the unchanged faces around them.
@@ -577,8 +728,16 @@ private:
       const Triangle &ta = out.triangles[f], &tb = out.triangles[g];
       const std::array<Vec3, 3> pa = {out.positions[ta[0]], out.positions[ta[1]], out.positions[ta[2]]};
       const std::array<Vec3, 3> pb = {out.positions[tb[0]], out.positions[tb[1]], out.positions[tb[2]]};
-      if (mesh_triangles_intersect(ta, pa, tb, pb))
+      if (mesh_triangles_intersect(ta, pa, tb, pb)) {
+        if (std::getenv("ST_DEBUG_BOOLEAN")) {
+          std::fprintf(stderr, "  crossing faces %u and %u:\n", f, g);
+          for (const auto* p : {&pa, &pb})
+            std::fprintf(stderr, "    (%.9g %.9g %.9g) (%.9g %.9g %.9g) (%.9g %.9g %.9g)\n", (*p)[0].x(), (*p)[0].y(),
+                         (*p)[0].z(), (*p)[1].x(), (*p)[1].y(), (*p)[1].z(), (*p)[2].x(), (*p)[2].y(), (*p)[2].z());
+          std::fprintf(stderr, "    ids %u %u %u / %u %u %u\n", ta[0], ta[1], ta[2], tb[0], tb[1], tb[2]);
+        }
         throw Degenerate{"faces near the intersection curve cross after rounding, near " + detail::where(pa[0])};
+      }
     };
     const AabbTree tree(out, fresh);
     tree.for_each_overlapping_pair(test);
@@ -596,6 +755,7 @@ private:
   const TriangleMesh& b_;
   const BooleanOptions& options_;
   const Index na_, nb_;
+  const double short_edge_;
   std::vector<Vec3> points_;
   std::vector<double> point_t_;
   std::unordered_map<PointKey, Index, PointKeyHash> point_index_;
@@ -606,6 +766,7 @@ private:
   std::vector<Piece> pieces_[2];
   std::vector<Index> components_[2];
   std::vector<Verdict> verdicts_[2];
+  std::unordered_map<std::uint64_t, std::array<Index, 2>> seam_pieces_[2]; // curve edge -> its two pieces
 };
 
 void check_operand(const TriangleMesh& mesh, const std::string& what) {
@@ -647,23 +808,43 @@ BooleanResult mesh_boolean(const TriangleMesh& a, const TriangleMesh& b, Boolean
   // 10 float32 ulp of the largest coordinate: large enough to survive rounding to float, far below
   // any printing or tessellation tolerance.
   const double step = std::max(10.0 * magnitude * std::ldexp(1.0, -23), 1e-9);
+  // Operands are rounded to float32 first (what an STL holds), so that only the new points move.
+  auto rounded = [&](const TriangleMesh& m) {
+    std::optional<TriangleMesh> copy;
+    if (!options.round_to_float) return copy;
+    for (const Vec3& p : m.positions)
+      if (p != p.cast<float>().cast<double>()) {
+        copy = m;
+        for (Vec3& q : copy->positions) q = q.cast<float>().cast<double>();
+        break;
+      }
+    return copy;
+  };
+  const std::optional<TriangleMesh> a_float = rounded(a), b_float = rounded(b);
+  const TriangleMesh& first = a_float ? *a_float : a;
+  const TriangleMesh& second_input = b_float ? *b_float : b;
   static const Vec3 kicks[] = {Vec3(0.5377, -0.6131, 0.5787), Vec3(-0.4431, 0.3318, 0.8328),
                                Vec3(0.7202, 0.6113, -0.3281), Vec3(-0.2217, -0.8874, -0.4041),
                                Vec3(0.3010, 0.1417, -0.9430)};
   std::string last_reason;
   for (int attempt = 0; attempt < std::max(1, options.max_attempts); ++attempt) {
     TriangleMesh moved;
-    const TriangleMesh* second = &b;
+    const TriangleMesh* second = &second_input;
     double offset = 0.0;
     if (attempt > 0) {
-      offset = step * attempt;
+      // Growing kicks: 10, 30, 90, ... ulp, for near-coincidences a small one does not separate.
+      offset = step * std::pow(3.0, attempt - 1);
       const Vec3 kick = offset * kicks[(attempt - 1) % 5].normalized();
-      moved = b;
-      for (Vec3& p : moved.positions) p += kick;
+      moved = second_input;
+      for (Vec3& p : moved.positions) {
+        p += kick;
+        if (options.round_to_float) p = p.cast<float>().cast<double>();
+      }
       second = &moved;
     }
     try {
-      Corefinement core(a, *second, options);
+      // 256 float ulp of the coordinates (2 um at 100 mm): see collapse_short_edges.
+      Corefinement core(first, *second, options, 25.6 * step);
       BooleanResult result = core.run(op);
       result.attempts = attempt + 1;
       result.perturbation = offset;

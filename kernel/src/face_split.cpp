@@ -44,6 +44,10 @@ public:
     for (int t = 0; t < static_cast<int>(tris_.size()); ++t)
       for (int i = 0; i < 3; ++i)
         if (tris_[t].v[i] == a && tris_[t].v[(i + 1) % 3] == b && tris_[t].n[i] < 0) {
+          const int c = tris_[t].v[(i + 2) % 3];
+          if (orient2d(verts_[a].xy, verts_[p].xy, verts_[c].xy) <= 0 ||
+              orient2d(verts_[p].xy, verts_[b].xy, verts_[c].xy) <= 0)
+            throw GeometryError("face split: a border point lies too close to a corner or another point");
           split_edge(t, i, p);
           legalize_around(p);
           return;
@@ -352,11 +356,10 @@ std::vector<Triangle> split_face(const FaceSplitInput& input) {
   for (const FacePoint* p : border) {
     const int k = p->edge;
     if (k > 2 || !(p->t > 0.0 && p->t < 1.0)) throw GeometryError("face split: a border point off its edge");
-    const auto& from = c2d[k];
-    const auto& to = c2d[(k + 1) % 3];
-    Vertex v{{from[0] + p->t * (to[0] - from[0]), from[1] + p->t * (to[1] - from[1])}, p->id, 1u << k};
-    if (k == 0) v.xy[1] = 0.0;
-    const int id = tri.add_vertex(v);
+    // The point as it is (rounded by the caller, perhaps an ulp off the edge's line), so that the
+    // triangles are valid for the coordinates the result holds.
+    const auto xy = to2d(p->position);
+    const int id = tri.add_vertex({{xy[0], xy[1]}, p->id, 1u << k});
     if (!local.emplace(p->id, id).second) throw GeometryError("face split: a point given twice");
     tri.split_border(last[k], (k + 1) % 3, id);
     last[k] = id;

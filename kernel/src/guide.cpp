@@ -4,6 +4,7 @@
 #include "st/boolean.h"
 #include "st/errors.h"
 #include "st/sleeve.h"
+#include "st/triangle_intersection.h"
 
 #include "detail/format.h"
 
@@ -36,14 +37,18 @@ std::vector<Index> faces_around(const TriangleMesh& mesh, const TubeSpec& tube, 
   return faces;
 }
 
+TriangleMesh rounded(TriangleMesh mesh) {
+  for (Vec3& p : mesh.positions) p = p.cast<float>().cast<double>();
+  return mesh;
+}
+
 struct Sample {
   double radius = 0.0;
   double angle = 0.0;
   std::optional<double> enter, exit; // heights where the ray enters and leaves the template
 };
 
-TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const TriangleMesh& bone,
-                    const GuideOptions& options) {
+TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const GuideOptions& options) {
   TubePlacement p;
   p.name = tube.name;
   p.sleeve_bottom = tube.offset;
@@ -100,25 +105,69 @@ TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const Trian
                         detail::where(tube.entry));
   }
   // The column reaches down into the middle of the template wall (at the lowest sample, so it stands
-  // in the template all around). Not lower, even where the sleeve is planned lower: below that the
-  // template body is the material, and beyond its inner surface lie clearance and bone. Where the
-  // sleeve overhangs the template's rim the column must stay above the bone.
-  double column = *middle;
-  std::optional<AabbTree> bone_tree;
-  for (const Sample& s : samples) {
-    if (s.enter || s.radius < tube.outer_radius) continue;
-    if (!bone_tree) bone_tree.emplace(bone, faces_around(bone, tube, tube.outer_radius, start, start - reach));
-    if (bone_tree->empty()) break;
-    if (const auto hit = bone_tree->first_hit(origin_of(s), -axis, 0.0, reach))
-      column = std::max(column, start - hit->t + options.clearance + 0.05);
-  }
+  // in the template all around); its foot then follows the bone (footed_cylinder_mesh). Not lower,
+  // even where the sleeve is planned lower: below that the template body is the material, and
+  // beyond the inner surface lie clearance and bone.
+  const double column = *middle;
+  std::vector<double> walls;
+  for (const Sample& s : samples)
+    if (s.enter && s.exit) walls.push_back(*s.enter - *s.exit);
+  std::nth_element(walls.begin(), walls.begin() + walls.size() / 2, walls.end());
+  p.foot_lift = std::min(0.1, 0.25 * walls[walls.size() / 2]);
   p.template_top = *top;
   p.template_bottom = *bottom;
   p.column_bottom = column;
-  p.sleeve_inside_template = all_hit && p.sleeve_top < *lowest_top && p.sleeve_bottom > *highest_bottom;
+  // No column when the sleeve's top is below the template's middle all around (or the sleeve lies
+  // wholly between the template's surfaces): the template body is the sleeve's material there.
+  p.sleeve_inside_template = column >= p.sleeve_top - 1e-6 ||
+                             (all_hit && p.sleeve_top < *lowest_top && p.sleeve_bottom > *highest_bottom);
   p.bore_top = std::max(p.sleeve_top, p.template_top) + options.bore_margin;
   p.bore_bottom = bore.value_or(p.template_bottom) - options.bore_margin;
   return p;
+}
+
+// The foot follows the bone at its grid points; between them a bone ridge can still reach it. Foot
+// points of faces that meet the bone (exact test) are raised in small steps until none does. A face
+// with no foot point that meets the bone means the sleeve itself runs into the bone away from its
+// seat (a planning conflict): an error naming the tube and the place.
+void seat_column(TriangleMesh& column, const TubeSpec& tube, double chordal_tolerance, const AabbTree& bone) {
+  if (bone.empty()) return;
+  const Index ring = static_cast<Index>(circle_segments(tube.outer_radius, chordal_tolerance));
+  const Index foot_vertices = column.vertex_count() - ring - 1; // then the top ring and its centre
+  const Vec3 axis = tube_axis(tube);
+  const double step = 0.05, top_height = axis.dot(column.positions.back());
+  auto conflict = [&](const Vec3& where, const std::string& how) {
+    return GeometryError("tube '" + tube.name + "': its sleeve " + how + " near " + detail::where(where) +
+                         "; shorten it, raise its offset or change its direction");
+  };
+  for (int round = 0; round < 12; ++round) {
+    std::vector<std::uint8_t> raise(column.vertex_count(), 0);
+    bool meets = false;
+    std::optional<Vec3> above_foot;
+    const AabbTree tree(column);
+    tree.for_each_overlapping_pair(bone, [&](Index fc, Index fb) {
+      const Triangle& c = column.triangles[fc];
+      const Triangle& b = bone.mesh().triangles[fb];
+      const auto& q = bone.mesh().positions;
+      if (!triangles_intersect(column.positions[c[0]], column.positions[c[1]], column.positions[c[2]], q[b[0]], q[b[1]],
+                               q[b[2]]))
+        return;
+      meets = true;
+      bool has_foot = false;
+      for (Index v : c)
+        if (v < foot_vertices) raise[v] = has_foot = true;
+      if (!has_foot) above_foot = column.positions[c[0]];
+    });
+    if (!meets) return;
+    if (above_foot) throw conflict(*above_foot, "runs into the bone");
+    for (Index v = 0; v < foot_vertices; ++v) {
+      if (!raise[v]) continue;
+      Vec3& p = column.positions[v];
+      p = (p + step * axis).cast<float>().cast<double>();
+      if (axis.dot(p) > top_height - 0.01 * tube.length) throw conflict(p, "stands on bone as high as its top");
+    }
+  }
+  throw conflict(tube.entry, "cannot be seated clear of the bone under it");
 }
 
 } // namespace
@@ -146,7 +195,30 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
     result.perturbed_operations += r.attempts > 1;
     all = r.mesh;
   };
-  for (const TubeSpec& tube : tubes) result.tubes.push_back(place(tube, shell, bone, options));
+  for (const TubeSpec& tube : tubes) result.tubes.push_back(place(tube, shell, options));
+  // The bone under all sleeves, for their feet: one pass over it.
+  std::vector<Index> bone_near;
+  {
+    BoundingBox all;
+    std::vector<BoundingBox> boxes;
+    for (std::size_t i = 0; i < tubes.size(); ++i) {
+      BoundingBox b;
+      b.extend(tube_point(tubes[i], result.tubes[i].column_bottom - 1.0));
+      b.extend(tube_point(tubes[i], result.tubes[i].sleeve_top + options.bore_margin));
+      boxes.push_back(b.inflated(tubes[i].outer_radius));
+      all.extend(boxes.back());
+    }
+    for (Index f = 0; f < bone.face_count(); ++f) {
+      const BoundingBox fb = triangle_box(bone, f);
+      if (!fb.overlaps(all)) continue;
+      for (const BoundingBox& b : boxes)
+        if (fb.overlaps(b)) {
+          bone_near.push_back(f);
+          break;
+        }
+    }
+  }
+  const AabbTree bone_tree(bone, std::move(bone_near));
   result.placement_seconds = seconds_since(t0);
 
   // Columns (each sleeve's outer cylinder from inside the template wall to the sleeve's top), united
@@ -155,8 +227,19 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
   for (std::size_t i = 0; i < tubes.size(); ++i) {
     const TubePlacement& p = result.tubes[i];
     if (p.sleeve_inside_template) continue;
-    unite(columns, cylinder_mesh(tube_cylinder(tubes[i], tubes[i].outer_radius, p.column_bottom, p.sleeve_top),
-                                 options.chordal_tolerance));
+    // The foot: at least foot_lift above the bone (plus clearance) everywhere under the sleeve.
+    const Vec3 axis = tube_axis(tubes[i]);
+    const double start = p.sleeve_top + options.bore_margin;
+    auto foot = [&](const Vec3& base_point) {
+      const Vec3 origin = base_point + (start - p.column_bottom) * axis;
+      const auto hit = bone_tree.first_hit(origin, -axis, 0.0, start - p.column_bottom + 1.0);
+      if (!hit) return 0.0;
+      return std::max(0.0, (start - hit->t) + options.clearance + p.foot_lift - p.column_bottom);
+    };
+    TriangleMesh column = rounded(footed_cylinder_mesh(
+        tube_cylinder(tubes[i], tubes[i].outer_radius, p.column_bottom, p.sleeve_top), options.chordal_tolerance, foot));
+    seat_column(column, tubes[i], options.chordal_tolerance, bone_tree);
+    unite(columns, column);
   }
   result.columns_seconds = seconds_since(t0) - result.placement_seconds;
   if (!columns.empty()) {
@@ -175,8 +258,8 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
   TriangleMesh bores;
   for (std::size_t i = 0; i < tubes.size(); ++i) {
     const TubePlacement& p = result.tubes[i];
-    unite(bores, cylinder_mesh(tube_cylinder(tubes[i], tubes[i].inner_radius, p.bore_bottom, p.bore_top),
-                               options.chordal_tolerance, true));
+    unite(bores, rounded(cylinder_mesh(tube_cylinder(tubes[i], tubes[i].inner_radius, p.bore_bottom, p.bore_top),
+                                       options.chordal_tolerance, true)));
   }
   BooleanResult cut = mesh_boolean(result.mesh, bores, BooleanOp::Difference, quick);
   result.perturbed_operations += cut.attempts > 1;

@@ -54,12 +54,20 @@ int circle_segments(double radius, double chordal_tolerance) {
   return std::clamp(static_cast<int>(std::ceil(2.0 * std::numbers::pi / angle)), 8, 1024);
 }
 
-TriangleMesh cylinder_mesh(const Cylinder& c, double chordal_tolerance, bool circumscribed) {
+namespace {
+
+void check_cylinder(const Cylinder& c, double chordal_tolerance) {
   if (!c.base.allFinite() || !c.axis.allFinite() || c.axis.norm() < 1e-12)
     throw InvalidInput("cylinder: base and axis must be finite, the axis non-zero");
   if (!(c.radius > 0.0) || !(c.height > 0.0) || !std::isfinite(c.radius) || !std::isfinite(c.height))
     throw InvalidInput("cylinder: radius and height must be finite and > 0");
   if (!(chordal_tolerance > 0.0)) throw InvalidInput("cylinder: the chordal tolerance must be > 0");
+}
+
+} // namespace
+
+TriangleMesh cylinder_mesh(const Cylinder& c, double chordal_tolerance, bool circumscribed) {
+  check_cylinder(c, chordal_tolerance);
   const Vec3 axis = c.axis.normalized();
   Vec3 u, v;
   orthonormal_frame(axis, u, v);
@@ -87,6 +95,54 @@ TriangleMesh cylinder_mesh(const Cylinder& c, double chordal_tolerance, bool cir
     mesh.triangles.push_back({b0, t1, t0});
     mesh.triangles.push_back({top_centre, t0, t1});
     mesh.triangles.push_back({bottom_centre, b1, b0});
+  }
+  return mesh;
+}
+
+TriangleMesh footed_cylinder_mesh(const Cylinder& c, double chordal_tolerance,
+                                  const std::function<double(const Vec3&)>& foot) {
+  check_cylinder(c, chordal_tolerance);
+  const Vec3 axis = c.axis.normalized();
+  Vec3 u, v;
+  orthonormal_frame(axis, u, v);
+  const int n = circle_segments(c.radius, chordal_tolerance);
+  // Rings about as far apart as the points around the rim.
+  const double spacing = 2.0 * std::numbers::pi * c.radius / n;
+  const int rings = std::clamp(static_cast<int>(std::ceil(c.radius / spacing)), 1, 64);
+  auto lift = [&](const Vec3& p) { return std::clamp(foot(p), 0.0, 0.99 * c.height); };
+
+  TriangleMesh mesh;
+  const Index centre = 0;
+  mesh.positions.push_back(c.base + lift(c.base) * axis);
+  auto ring_vertex = [&](int j, int i) { return static_cast<Index>(1 + (j - 1) * n + (i % n)); };
+  for (int j = 1; j <= rings; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double a = 2.0 * std::numbers::pi * i / n;
+      const Vec3 p = c.base + (c.radius * j / rings) * (std::cos(a) * u + std::sin(a) * v);
+      mesh.positions.push_back(p + lift(p) * axis);
+    }
+  const Index top0 = mesh.vertex_count();
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * std::numbers::pi * i / n;
+    mesh.positions.push_back(c.base + c.height * axis + c.radius * (std::cos(a) * u + std::sin(a) * v));
+  }
+  const Index top_centre = mesh.vertex_count();
+  mesh.positions.push_back(c.base + c.height * axis);
+  for (int i = 0; i < n; ++i) {
+    // Bottom, facing down: clockwise seen from the top.
+    mesh.triangles.push_back({centre, ring_vertex(1, i + 1), ring_vertex(1, i)});
+    for (int j = 1; j < rings; ++j) {
+      const Index a = ring_vertex(j, i), b = ring_vertex(j + 1, i), cc = ring_vertex(j + 1, i + 1),
+                  d = ring_vertex(j, i + 1);
+      mesh.triangles.push_back({a, d, cc});
+      mesh.triangles.push_back({a, cc, b});
+    }
+    // Side and top.
+    const Index b0 = ring_vertex(rings, i), b1 = ring_vertex(rings, i + 1);
+    const Index t0 = top0 + i, t1 = top0 + (i + 1) % n;
+    mesh.triangles.push_back({b0, b1, t1});
+    mesh.triangles.push_back({b0, t1, t0});
+    mesh.triangles.push_back({top_centre, t0, t1});
   }
   return mesh;
 }

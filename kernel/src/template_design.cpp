@@ -136,6 +136,18 @@ double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
 
 } // namespace
 
+TemplateOptions template_options(const CaseFile& c) {
+  TemplateOptions o;
+  o.boundary_points = c.boundary_points;
+  o.inside = c.inside;
+  o.thickness = c.thickness;
+  o.clearance = c.clearance;
+  o.resolution = c.resolution.value_or(0.0);
+  o.sampling_step = c.sampling_step.value_or(0);
+  o.tubes = c.tubes;
+  return o;
+}
+
 TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& options) {
   check_options(options);
   check_mesh(bone, "bone mesh");

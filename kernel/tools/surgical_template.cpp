@@ -100,15 +100,8 @@ int design(int argc, char** argv) {
   const st::TriangleMesh bone = st::read_mesh(c.bone, &read_report);
   const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_read).count();
 
-  st::TemplateOptions o;
-  o.boundary_points = c.boundary_points;
-  o.inside = c.inside;
-  o.thickness = c.thickness;
-  o.clearance = c.clearance;
-  o.resolution = c.resolution.value_or(0.0);
-  o.sampling_step = c.sampling_step.value_or(0);
+  st::TemplateOptions o = st::template_options(c);
   o.simplify_outer = simplify;
-  o.tubes = c.tubes;
   o.tube_tolerance = tolerance;
   const st::TemplateResult r = st::design_template(bone, o);
 

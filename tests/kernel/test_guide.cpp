@@ -155,15 +155,7 @@ TEST_P(GuideExample, SleevesJoinedBoresOpenNothingInTheBone) {
   const CaseFile c = read_case(test::examples_dir() + "/cases/" + GetParam() + ".json");
   ASSERT_FALSE(c.tubes.empty());
   const TriangleMesh bone = read_mesh(c.bone);
-  TemplateOptions o;
-  o.boundary_points = c.boundary_points;
-  o.inside = c.inside;
-  o.thickness = c.thickness;
-  o.clearance = c.clearance;
-  o.resolution = c.resolution.value_or(0.0);
-  o.sampling_step = c.sampling_step.value_or(0);
-  o.tubes = c.tubes;
-  const TemplateResult r = design_template(bone, o);
+  const TemplateResult r = design_template(bone, template_options(c));
   GuideCheck(bone).expect_guide(r, c.tubes, c.clearance);
   // The fit of the template body is untouched by the tubes.
   EXPECT_LT(r.fit.outer_to_inner.max, c.thickness + r.resolution);

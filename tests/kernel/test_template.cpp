@@ -149,14 +149,7 @@ class ExampleCase : public ::testing::TestWithParam<std::string> {};
 TEST_P(ExampleCase, DesignsAValidTemplate) {
   const CaseFile c = read_case(GetParam());
   const TriangleMesh bone = read_mesh(c.bone);
-  TemplateOptions o;
-  o.boundary_points = c.boundary_points;
-  o.inside = c.inside;
-  o.thickness = c.thickness;
-  o.clearance = c.clearance;
-  o.resolution = c.resolution.value_or(0.0);
-  o.sampling_step = c.sampling_step.value_or(0);
-  const TemplateResult r = design_template(bone, o);
+  const TemplateResult r = design_template(bone, template_options(c)); // with the case's tubes
   expect_valid_solid(r.shell);
   EXPECT_EQ(r.solid.components, 1u);
   EXPECT_NEAR(r.fit.inner_to_bone.max, c.clearance, 1e-3 + 0.1 * c.clearance);

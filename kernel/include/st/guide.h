@@ -29,6 +29,7 @@ struct TubePlacement {
   double sleeve_bottom = 0.0;   ///< offset: the sleeve's lower end as planned
   double sleeve_top = 0.0;      ///< offset + length
   double column_bottom = 0.0;   ///< where the sleeve's outer wall stops, inside the template wall
+  double foot_lift = 0.0;       ///< the column's foot stays this far above bone + clearance
   double template_top = 0.0;    ///< highest point where the template lies under the sleeve
   double template_bottom = 0.0; ///< lowest point of the template's inner surface under the sleeve
   double bore_bottom = 0.0;

@@ -10,6 +10,8 @@
 #include "st/case_file.h"
 #include "st/mesh.h"
 
+#include <functional>
+
 namespace st {
 
 /// A solid circular cylinder: base centre, unit axis from the base towards the top, radius, height.
@@ -50,5 +52,12 @@ int circle_segments(double radius, double chordal_tolerance);
 /// what a bore needs so the drill always fits). Throws InvalidInput for a non-positive radius, height
 /// or tolerance.
 TriangleMesh cylinder_mesh(const Cylinder& cylinder, double chordal_tolerance, bool circumscribed = false);
+
+/// A cylinder standing on a foot: like cylinder_mesh (inscribed), but its bottom follows a height
+/// field. `foot(p)` gives, for a point p of the base disk, the height above the base where the solid
+/// starts (clamped to [0, height - 1% of height]); the bottom is a polar grid of rings with the side's
+/// segments, so a foot that follows the bone keeps the whole solid out of it.
+TriangleMesh footed_cylinder_mesh(const Cylinder& cylinder, double chordal_tolerance,
+                                  const std::function<double(const Vec3&)>& foot);
 
 } // namespace st

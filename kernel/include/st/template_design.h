@@ -77,6 +77,10 @@ struct TemplateResult {
   TemplateFit fit;               ///< filled when options.check
 };
 
+/// The options a case file asks for: boundary, inside, thickness, clearance, resolution, sampling step
+/// and tubes (the rest at their defaults).
+TemplateOptions template_options(const CaseFile& c);
+
 /// Designs the initial template on `bone`. Throws InvalidInput for invalid options (naming the
 /// option) and GeometryError when the geometry cannot give a template (see trace_surface_curve and
 /// cut_region); never returns a shell it knows to be broken: when options.check finds it invalid it
