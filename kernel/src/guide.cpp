@@ -252,6 +252,7 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
     result.from_tube = std::move(merged.from_b);
   }
   result.union_seconds = seconds_since(t0);
+  result.columns = std::move(columns);
 
   // Bores along every whole axis, from above the sleeve to below the inner surface.
   const auto t1 = Clock::now();
@@ -268,6 +269,7 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
     from_tube[f] = cut.from_b[f] ? 1 : result.from_tube[cut.source_face[f]];
   result.mesh = std::move(cut.mesh);
   result.from_tube = std::move(from_tube);
+  result.bores = std::move(bores);
   result.bore_seconds = seconds_since(t1);
   result.seconds = seconds_since(t0);
   return result;

@@ -345,6 +345,8 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     result.tubes = std::move(guide.tubes);
     result.perturbed_operations = guide.perturbed_operations;
     result.from_tube = std::move(guide.from_tube);
+    result.columns = std::move(guide.columns);
+    result.bores = std::move(guide.bores);
     result.body = std::move(result.shell);
     result.shell = std::move(guide.mesh);
     if (options.check) {

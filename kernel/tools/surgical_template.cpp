@@ -33,6 +33,7 @@ constexpr const char* kUsage =
     "      the case's \"output\"\n"
     "      --simplify: simplify the outer surface (about 5x fewer triangles, slower)\n"
     "      --tolerance: chordal tolerance of sleeves and bores in mm (default 0.01)\n"
+    "      --operands DIR: also write the Boolean operands (body, columns, bores) there\n"
     "  surgical-template union|difference|intersection A B -o OUT.stl\n"
     "      Boolean operation of two closed meshes (A minus B for difference)\n"
     "  surgical-template check MESH\n"
@@ -76,12 +77,14 @@ int design(int argc, char** argv) {
   std::string case_path, out_path, report_path;
   bool simplify = false;
   double tolerance = 0.01;
+  std::string operands_dir;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if ((a == "-o" || a == "--output") && i + 1 < argc) out_path = argv[++i];
     else if (a == "--report" && i + 1 < argc) report_path = argv[++i];
     else if (a == "--simplify") simplify = true;
     else if (a == "--tolerance" && i + 1 < argc) tolerance = parse_length(argv[++i], "--tolerance");
+    else if (a == "--operands" && i + 1 < argc) operands_dir = argv[++i];
     else if (!a.empty() && a[0] != '-' && case_path.empty()) case_path = a;
     else throw st::InvalidInput("unexpected argument '" + a + "'\n" + kUsage);
   }
@@ -108,6 +111,13 @@ int design(int argc, char** argv) {
   const std::filesystem::path out_file(out_path);
   if (out_file.has_parent_path()) std::filesystem::create_directories(out_file.parent_path());
   st::write_stl(r.shell, out_path, "surgical-template " + c.name);
+  if (!operands_dir.empty()) {
+    // The Boolean operands, for comparing other kernels on the same input (bench/references).
+    std::filesystem::create_directories(operands_dir);
+    st::write_stl(r.body, operands_dir + "/body.stl", "template body " + c.name);
+    if (!r.columns.empty()) st::write_stl(r.columns, operands_dir + "/columns.stl", "sleeve columns " + c.name);
+    if (!r.bores.empty()) st::write_stl(r.bores, operands_dir + "/bores.stl", "bores " + c.name);
+  }
 
   const auto& t = r.times;
   std::printf("%s: template of %zu triangles, volume %.1f mm^3 -> %s\n", c.name.c_str(), r.shell.triangles.size(),

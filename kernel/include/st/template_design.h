@@ -61,6 +61,7 @@ struct TemplateResult {
   std::vector<std::uint8_t> from_tube; ///< per shell face: 1 for sleeve and bore faces
   std::vector<TubePlacement> tubes;    ///< per tube: where its sleeve and bore were put
   int perturbed_operations = 0;  ///< Boolean operations that needed a tiny displacement
+  TriangleMesh columns, bores;   ///< the operands of the tubes' union and difference (guide.h)
   TriangleMesh inner;            ///< inner surface (bone side), oriented as the bone
   TriangleMesh outer;            ///< outer surface, oriented outward
   std::vector<Vec3> curve;       ///< the boundary curve on the bone (closed polyline)
