@@ -25,17 +25,7 @@ void bind_case(py::module_& m) {
         d["resolution"] = c.resolution ? py::object(py::float_(*c.resolution)) : py::object(py::none());
         d["sampling_step"] = c.sampling_step ? py::object(py::int_(*c.sampling_step)) : py::object(py::none());
         py::list tubes;
-        for (const TubeSpec& t : c.tubes) {
-          py::dict td;
-          td["name"] = t.name;
-          td["entry"] = from_points({t.entry}).attr("reshape")(3);
-          td["direction"] = from_points({t.direction}).attr("reshape")(3);
-          td["inner_radius"] = t.inner_radius;
-          td["outer_radius"] = t.outer_radius;
-          td["length"] = t.length;
-          td["offset"] = t.offset;
-          tubes.append(td);
-        }
+        for (const TubeSpec& t : c.tubes) tubes.append(tube_dict(t));
         d["tubes"] = tubes;
         d["output"] = c.output ? py::object(py::str(*c.output)) : py::object(py::none());
         d["warnings"] = c.warnings;

@@ -4,6 +4,7 @@
 #include "st/offset.h"
 #include "st/ruled_surface.h"
 #include "st/surface_curve.h"
+#include "st/guide.h"
 #include "st/template_design.h"
 #include "st/topology.h"
 
@@ -12,6 +13,25 @@ using namespace st;
 using namespace st::py_convert;
 
 py::dict solid_dict(const SolidReport& r);
+
+namespace {
+
+py::list placements_list(const std::vector<TubePlacement>& placements) {
+  py::list out;
+  for (const TubePlacement& p : placements) {
+    py::dict d;
+    d["name"] = p.name;
+    d["sleeve"] = py::make_tuple(p.sleeve_bottom, p.sleeve_top);
+    d["column_bottom"] = p.column_bottom;
+    d["template"] = py::make_tuple(p.template_bottom, p.template_top);
+    d["bore"] = py::make_tuple(p.bore_bottom, p.bore_top);
+    d["inside_template"] = p.sleeve_inside_template;
+    out.append(d);
+  }
+  return out;
+}
+
+} // namespace
 
 void bind_template(py::module_& m) {
   m.def(
@@ -100,7 +120,7 @@ void bind_template(py::module_& m) {
       "design_template",
       [](const Points& v, const Faces& f, const Points& boundary_points, double thickness, double clearance,
          double resolution, int sampling_step, const py::object& inside, double max_snap_distance, bool check,
-         bool simplify_outer) {
+         bool simplify_outer, const py::object& tubes, double tube_tolerance) {
         const TriangleMesh bone = to_mesh(v, f, "bone");
         TemplateOptions o;
         o.boundary_points = to_points(boundary_points, "boundary_points");
@@ -112,6 +132,8 @@ void bind_template(py::module_& m) {
         o.max_snap_distance = max_snap_distance;
         o.check = check;
         o.simplify_outer = simplify_outer;
+        o.tubes = to_tubes(tubes);
+        o.tube_tolerance = tube_tolerance;
         TemplateResult r;
         {
           py::gil_scoped_release release;
@@ -119,6 +141,11 @@ void bind_template(py::module_& m) {
         }
         py::dict d;
         d["shell"] = from_mesh(r.shell);
+        d["body"] = from_mesh(r.body);
+        d["inner_faces"] = r.body_inner_faces;
+        d["from_tube"] = py::array_t<std::uint8_t>(static_cast<py::ssize_t>(r.from_tube.size()), r.from_tube.data());
+        d["tubes"] = placements_list(r.tubes);
+        d["perturbed_operations"] = r.perturbed_operations;
         d["inner"] = from_mesh(r.inner);
         d["outer"] = from_mesh(r.outer);
         d["curve"] = from_points(r.curve);
@@ -139,6 +166,7 @@ void bind_template(py::module_& m) {
         times["outer_segmentation"] = r.times.outer_segmentation;
         times["connection"] = r.times.connection;
         times["total"] = r.times.total;
+        times["boolean"] = r.times.boolean;
         times["validation"] = r.times.validation;
         d["times"] = times;
         if (check) {
@@ -154,7 +182,40 @@ void bind_template(py::module_& m) {
       py::arg("vertices"), py::arg("triangles"), py::arg("boundary_points"), py::arg("thickness"),
       py::arg("clearance") = 0.0, py::arg("resolution") = 0.0, py::arg("sampling_step") = 0,
       py::arg("inside") = py::none(), py::arg("max_snap_distance") = tol::kMaxSnapDistance_mm,
-      py::arg("check") = true, py::arg("simplify_outer") = false,
-      "Designs the initial template (closed shell) on a bone mesh. Returns a dict with 'shell', 'inner', "
-      "'outer' (each (vertices, triangles)), 'curve', 'counts', 'times' (s), 'solid' and 'fit'.");
+      py::arg("check") = true, py::arg("simplify_outer") = false, py::arg("tubes") = py::none(),
+      py::arg("tube_tolerance") = 0.01,
+      "Designs the template (closed shell) on a bone mesh, with its drilling tubes (dicts with the case file's "
+      "tube keys) merged and bored. Returns a dict with 'shell' (the guide), 'body' (before the tubes; its first "
+      "'inner_faces' faces are the inner surface), 'inner', 'outer' (each (vertices, triangles)), 'from_tube' "
+      "(per shell face), 'tubes' (placements), 'curve', 'counts', 'times' (s), 'solid' and 'fit'.");
+
+  m.def(
+      "add_tubes",
+      [](const Points& sv, const Faces& sf, std::size_t inner_faces, const Points& bv, const Faces& bf,
+         const py::object& tubes, double chordal_tolerance, double clearance) {
+        const TriangleMesh shell = to_mesh(sv, sf, "shell");
+        const TriangleMesh bone = to_mesh(bv, bf, "bone");
+        GuideOptions o;
+        o.chordal_tolerance = chordal_tolerance;
+        o.clearance = clearance;
+        const std::vector<TubeSpec> specs = to_tubes(tubes);
+        GuideResult g;
+        {
+          py::gil_scoped_release release;
+          g = add_tubes(shell, inner_faces, bone, specs, o);
+        }
+        py::dict d;
+        d["mesh"] = from_mesh(g.mesh);
+        d["from_tube"] = py::array_t<std::uint8_t>(static_cast<py::ssize_t>(g.from_tube.size()), g.from_tube.data());
+        d["tubes"] = placements_list(g.tubes);
+        d["seconds"] = g.seconds;
+        d["perturbed_operations"] = g.perturbed_operations;
+        return d;
+      },
+      py::arg("shell_vertices"), py::arg("shell_triangles"), py::arg("inner_faces"), py::arg("bone_vertices"),
+      py::arg("bone_triangles"), py::arg("tubes"), py::arg("chordal_tolerance") = 0.01, py::arg("clearance") = 0.0,
+      "Merges drilling tubes into a closed template shell whose first `inner_faces` faces are its inner surface "
+      "(design_template's 'body' and 'inner_faces'), cutting their bores. Returns a dict with 'mesh', 'from_tube', "
+      "'tubes' (placements), 'seconds'. Raises ValueError for a bad tube, RuntimeError for one that misses the "
+      "template or runs into the bone.");
 }

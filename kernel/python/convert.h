@@ -2,6 +2,7 @@
 // numpy <-> kernel conversions shared by the bind_*.cpp files. Arrays are copied by value:
 // positions (n, 3) float64, triangles (m, 3) int32/uint32/int64 (checked against n).
 
+#include "st/case_file.h"
 #include "st/errors.h"
 #include "st/mesh.h"
 #include "st/validate.h"
@@ -79,6 +80,58 @@ inline std::optional<Vec3> to_optional_point(const py::object& o, const std::str
   if (o.is_none()) return std::nullopt;
   const auto pts = to_points(Points(py::array(py::module_::import("numpy").attr("asarray")(o, "float64").attr("reshape")(1, 3))), what);
   return pts[0];
+}
+
+/// A tube from a dict (or any mapping) with the case file's keys; `where` names it in errors.
+inline TubeSpec to_tube(const py::handle& item, const std::string& where) {
+  if (!py::isinstance<py::dict>(item)) throw InvalidInput(where + ": expected a dict with the case file's tube keys");
+  const py::dict d = py::reinterpret_borrow<py::dict>(item);
+  auto number = [&](const char* key, std::optional<double> fallback) {
+    if (!d.contains(key)) {
+      if (fallback) return *fallback;
+      throw InvalidInput(where + ": missing '" + key + "'");
+    }
+    try {
+      return d[key].cast<double>();
+    } catch (const py::cast_error&) {
+      throw InvalidInput(where + ": '" + key + "' must be a number");
+    }
+  };
+  auto point = [&](const char* key) {
+    if (!d.contains(key)) throw InvalidInput(where + ": missing '" + key + "'");
+    const auto p = to_optional_point(py::reinterpret_borrow<py::object>(d[key]), where + "." + key);
+    return *p;
+  };
+  TubeSpec t;
+  t.name = d.contains("name") ? py::str(d["name"]).cast<std::string>() : where;
+  t.entry = point("entry");
+  t.direction = point("direction");
+  if (t.direction.allFinite() && t.direction.norm() > 0.0) t.direction.normalize();
+  t.inner_radius = number("inner_radius", std::nullopt);
+  t.outer_radius = number("outer_radius", std::nullopt);
+  t.length = number("length", std::nullopt);
+  t.offset = number("offset", 0.0);
+  return t;
+}
+
+inline std::vector<TubeSpec> to_tubes(const py::object& list) {
+  std::vector<TubeSpec> out;
+  if (list.is_none()) return out;
+  std::size_t i = 0;
+  for (const py::handle item : list) out.push_back(to_tube(item, "tubes[" + std::to_string(i++) + "]"));
+  return out;
+}
+
+inline py::dict tube_dict(const TubeSpec& t) {
+  py::dict td;
+  td["name"] = t.name;
+  td["entry"] = from_points({t.entry}).attr("reshape")(3);
+  td["direction"] = from_points({t.direction}).attr("reshape")(3);
+  td["inner_radius"] = t.inner_radius;
+  td["outer_radius"] = t.outer_radius;
+  td["length"] = t.length;
+  td["offset"] = t.offset;
+  return td;
 }
 
 } // namespace st::py_convert
