@@ -25,7 +25,7 @@ test-main: build
 test-sanitize: deps
 	cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DST_SANITIZE=ON -DST_BUILD_PYTHON=OFF
 	cmake --build build-asan -j$(JOBS) --target st_kernel_tests
-	ctest --test-dir build-asan -j$(JOBS) --output-on-failure
+	ST_PROPERTY_CASES=200 ctest --test-dir build-asan -j$(JOBS) --output-on-failure
 
 test-fuzz: deps
 	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DST_FUZZ=ON \
