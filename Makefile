@@ -16,7 +16,7 @@ build: deps
 	cmake --build $(BUILD) -j$(JOBS)
 
 # Everything CI runs: the Release tests (GoogleTest, pytest), the kernel tests under ASan+UBSan, and
-# each file-reader fuzzer for a bounded time.
+# each file-reader and case-parser fuzzer for a bounded time.
 test: test-main test-sanitize test-fuzz
 
 test-main: build
@@ -31,7 +31,7 @@ test-fuzz: deps
 	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DST_FUZZ=ON \
 	  -DST_BUILD_TESTS=OFF -DST_BUILD_PYTHON=OFF \
 	  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer"
-	cmake --build build-fuzz -j$(JOBS) --target fuzz_stl fuzz_ply fuzz_obj fuzz_gz
+	cmake --build build-fuzz -j$(JOBS) --target fuzz_stl fuzz_ply fuzz_obj fuzz_gz fuzz_case
 	ctest --test-dir build-fuzz -j$(JOBS) --output-on-failure -R fuzz_
 
 demo: build

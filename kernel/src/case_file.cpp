@@ -64,7 +64,7 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) { // parse_error, and out_of_range for a number that overflows
     throw InvalidInput(path + ": not valid JSON: " + e.what());
   }
   if (!doc.is_object()) r.fail("(top level)", "must be a JSON object");
@@ -131,9 +131,10 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
         r.fail(key + ".markups", "3D Slicer markups are not supported by this version yet; give entry and direction");
       tube.entry = r.point(r.required(t, "entry", key + ".entry"), key + ".entry");
       tube.direction = r.point(r.required(t, "direction", key + ".direction"), key + ".direction");
-      const double len = tube.direction.norm();
+      const double len = tube.direction.stableNorm(); // no overflow for huge components
       if (!(len > 1e-12)) r.fail(key + ".direction", "must be non-zero");
       tube.direction /= len;
+      if (!tube.direction.allFinite()) r.fail(key + ".direction", "must be a finite, non-zero vector");
       tube.inner_radius = r.number(r.required(t, "inner_radius", key + ".inner_radius"), key + ".inner_radius");
       tube.outer_radius = r.number(r.required(t, "outer_radius", key + ".outer_radius"), key + ".outer_radius");
       tube.length = r.number(r.required(t, "length", key + ".length"), key + ".length");
@@ -142,6 +143,10 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
       if (!(tube.outer_radius > tube.inner_radius)) r.fail(key + ".outer_radius", "must be > inner_radius");
       if (!(tube.length > 0.0)) r.fail(key + ".length", "must be > 0");
       if (tube.offset < 0.0) r.fail(key + ".offset", "must be >= 0");
+      // The same bounds as check_tube (sleeve.h): a sleeve over 1 m wide or 10 m long is a unit error.
+      if (tube.outer_radius >= 1e3) r.fail(key + ".outer_radius", "is absurd (must be under 1000 mm)");
+      if (tube.length >= 1e4) r.fail(key + ".length", "is absurd (must be under 10000 mm)");
+      if (tube.offset >= 1e4) r.fail(key + ".offset", "is absurd (must be under 10000 mm)");
       c.tubes.push_back(tube);
     }
   }

@@ -92,3 +92,12 @@ def test_missing_case_file(tmp_path):
     p = run("design", str(tmp_path / "nope.json"))
     assert p.returncode == 2
     assert "nope.json" in p.stderr
+
+
+def test_case_with_an_overflowing_number_is_refused(tmp_path):
+    # Found by fuzz_case: a number too large for a double is a JSON error, not a crash.
+    case = tmp_path / "case.json"
+    case.write_text('{"format": "surgical-template-case/1", "template": {"thickness": 1' + "7" * 400 + '.5}}')
+    p = run("design", str(case), "-o", str(tmp_path / "t.stl"))
+    assert p.returncode == 2, p.stderr
+    assert "case.json" in p.stderr and "not valid JSON" in p.stderr
