@@ -165,6 +165,25 @@ TEST_P(GuideExample, SleevesJoinedBoresOpenNothingInTheBone) {
 INSTANTIATE_TEST_SUITE_P(Examples, GuideExample,
                          ::testing::Values("maxilla-implants", "vertebra-pedicle", "sacrum-iliosacral"));
 
+TEST(GuideDental, EightSleevesCloseTogetherMergeIntoOneGuide) {
+  // The five planned implants widened to 2.4 mm, plus three between the first four: eight sleeves
+  // whose outer walls overlap their neighbours' on a real, dirty CT.
+  const CaseFile c = read_case(test::examples_dir() + "/cases/maxilla-implants.json");
+  const TriangleMesh bone = read_mesh(c.bone);
+  TemplateOptions o = template_options(c);
+  for (TubeSpec& t : o.tubes) t.outer_radius = 2.4;
+  for (std::size_t i = 0; i + 1 < 4; ++i) {
+    TubeSpec between = o.tubes[i];
+    between.name += "+";
+    between.entry = 0.5 * (o.tubes[i].entry + o.tubes[i + 1].entry);
+    between.direction = (o.tubes[i].direction + o.tubes[i + 1].direction).normalized();
+    o.tubes.push_back(between);
+  }
+  ASSERT_EQ(o.tubes.size(), 8u);
+  const TemplateResult r = design_template(bone, o);
+  GuideCheck(bone).expect_guide(r, o.tubes, c.clearance);
+}
+
 // A smooth bump: a template on its top, tubes in special positions.
 struct Bump : ::testing::Test {
   TriangleMesh bone = test::make_height_field(-20, 20, -20, 20, 80, [](double x, double y) {
