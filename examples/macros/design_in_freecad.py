@@ -5,7 +5,7 @@ to the folder holding stkernel*.so, e.g. build/python):
 
     ST_CASE=examples/cases/vertebra-pedicle.json ST_PYTHON=build/python freecadcmd examples/macros/design_in_freecad.py
 
-It adds the bone and the template as Mesh features to a new document, reports the check in the
+It adds the bone and the template (with its drilling sleeves) as Mesh features to a new document, reports the check in the
 Report view / console and, with ST_FCSTD set, saves the document there.
 """
 import os
@@ -32,7 +32,8 @@ def design(case_path, fcstd=None):
     V, F = stkernel.read_mesh(case["bone"])
     r = stkernel.design_template(V, F, case["boundary_points"], thickness=case["thickness"],
                                  clearance=case["clearance"], resolution=case["resolution"] or 0.0,
-                                 sampling_step=case["sampling_step"] or 0, inside=case["inside"])
+                                 sampling_step=case["sampling_step"] or 0, inside=case["inside"],
+                                 tubes=case["tubes"])
     doc = App.newDocument(case["name"].replace("-", "_"))
     mesh_feature(doc, "Bone", V, F)
     tpl = mesh_feature(doc, "Template", *r["shell"])
