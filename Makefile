@@ -4,7 +4,7 @@ JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3
 DEMO_CASE ?= examples/cases/maxilla-implants.json
 
-.PHONY: all deps build test test-main test-sanitize test-fuzz demo bench bench-references clean
+.PHONY: all deps build install test test-main test-sanitize test-fuzz demo bench bench-references clean
 
 all: build
 
@@ -14,6 +14,17 @@ deps:
 build: deps
 	cmake -S . -B $(BUILD) $(CMAKE_FLAGS)
 	cmake --build $(BUILD) -j$(JOBS)
+
+# The workbench, its icons and the kernel module into FreeCAD's user Mod folder (FreeCAD 0.20 reads
+# ~/.local/share/FreeCAD/Mod; FREECAD_USER_DATA moves it, as for FreeCAD itself).
+FREECAD_MOD ?= $(if $(FREECAD_USER_DATA),$(FREECAD_USER_DATA),$(HOME)/.local/share/FreeCAD)/Mod
+install: build
+	rm -rf $(FREECAD_MOD)/SurgicalTemplate
+	mkdir -p $(FREECAD_MOD)/SurgicalTemplate/icons
+	cp workbench/SurgicalTemplate/*.py workbench/SurgicalTemplate/package.xml $(FREECAD_MOD)/SurgicalTemplate/
+	cp icons/*.svg $(FREECAD_MOD)/SurgicalTemplate/icons/
+	cp $(BUILD)/python/stkernel*.so $(FREECAD_MOD)/SurgicalTemplate/
+	@echo "Surgical Template installed in $(FREECAD_MOD)/SurgicalTemplate"
 
 # Everything CI runs: the Release tests (GoogleTest, pytest), the kernel tests under ASan+UBSan, and
 # each file-reader and case-parser fuzzer for a bounded time.

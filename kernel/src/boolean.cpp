@@ -632,7 +632,7 @@ private:
       }
     std::vector<std::uint8_t> removed(m.face_count(), 0), gone(m.vertex_count(), 0);
     std::size_t collapses = 0;
-    auto normal = [&](const Triangle& t) {
+    auto normal = [&](const Triangle& t) -> Vec3 {
       return (m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]);
     };
     for (const auto& e : edges) {
@@ -847,6 +847,7 @@ BooleanResult mesh_boolean(const TriangleMesh& a, const TriangleMesh& b, Boolean
       Corefinement core(first, *second, options, 25.6 * step);
       BooleanResult result = core.run(op);
       result.attempts = attempt + 1;
+      result.curve_tolerance = options.round_to_float ? 25.6 * step : 0.0;
       result.perturbation = offset;
       result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       return result;

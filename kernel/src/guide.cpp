@@ -60,7 +60,7 @@ TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const Guide
   // wide (steep bone) plus a margin.
   const double start = p.sleeve_top + options.bore_margin;
   const double reach = start + 3.0 * tube.outer_radius + 20.0;
-  auto origin_of = [&](const Sample& s) {
+  auto origin_of = [&](const Sample& s) -> Vec3 { // a Vec3, not an Eigen expression of temporaries
     return tube_point(tube, start) + s.radius * (std::cos(s.angle) * u + std::sin(s.angle) * v);
   };
   const AabbTree tree(shell, faces_around(shell, tube, tube.outer_radius, start, start - reach));
@@ -184,6 +184,11 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
   if (tubes.empty()) return result;
   for (const TubeSpec& t : tubes) check_tube(t);
 
+  auto note = [&](const BooleanResult& r) {
+    result.perturbed_operations += r.attempts > 1;
+    result.max_perturbation = std::max(result.max_perturbation, r.perturbation);
+    result.curve_tolerance = std::max(result.curve_tolerance, r.curve_tolerance);
+  };
   BooleanOptions quick; // the operands are made here, closed by construction
   quick.check_operands = false;
   auto unite = [&](TriangleMesh& all, const TriangleMesh& one) {
@@ -192,7 +197,7 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
       return;
     }
     const BooleanResult r = mesh_boolean(all, one, BooleanOp::Union, quick);
-    result.perturbed_operations += r.attempts > 1;
+    note(r);
     all = r.mesh;
   };
   for (const TubeSpec& tube : tubes) result.tubes.push_back(place(tube, shell, options));
@@ -247,7 +252,7 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
     o.seat.assign(shell.face_count(), 0);
     std::fill(o.seat.begin(), o.seat.begin() + static_cast<std::ptrdiff_t>(inner_faces), 1);
     BooleanResult merged = mesh_boolean(result.mesh, columns, BooleanOp::Union, o);
-    result.perturbed_operations += merged.attempts > 1;
+    note(merged);
     result.mesh = std::move(merged.mesh);
     result.from_tube = std::move(merged.from_b);
   }
@@ -263,7 +268,7 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
                                        options.chordal_tolerance, true)));
   }
   BooleanResult cut = mesh_boolean(result.mesh, bores, BooleanOp::Difference, quick);
-  result.perturbed_operations += cut.attempts > 1;
+  note(cut);
   std::vector<std::uint8_t> from_tube(cut.mesh.face_count());
   for (Index f = 0; f < cut.mesh.face_count(); ++f)
     from_tube[f] = cut.from_b[f] ? 1 : result.from_tube[cut.source_face[f]];

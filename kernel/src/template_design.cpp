@@ -344,6 +344,8 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     result.times.boolean = guide.seconds;
     result.tubes = std::move(guide.tubes);
     result.perturbed_operations = guide.perturbed_operations;
+    result.max_perturbation = guide.max_perturbation;
+    result.curve_tolerance = guide.curve_tolerance;
     result.from_tube = std::move(guide.from_tube);
     result.columns = std::move(guide.columns);
     result.bores = std::move(guide.bores);

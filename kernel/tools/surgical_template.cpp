@@ -167,6 +167,9 @@ int design(int argc, char** argv) {
                               {"template", {p.template_bottom, p.template_top}},
                               {"bore", {p.bore_bottom, p.bore_top}},
                               {"inside_template", p.sleeve_inside_template}});
+    rep["boolean"] = {{"perturbed_operations", r.perturbed_operations},
+                      {"max_perturbation_mm", r.max_perturbation},
+                      {"curve_tolerance_mm", r.curve_tolerance}};
     rep["peak_memory_mb"] = peak_memory_mb();
     rep["solid"] = {{"valid", r.solid.valid()},
                     {"closed", r.solid.closed()},

@@ -96,8 +96,11 @@ struct GuideCheck {
         nearest = std::min(nearest, segment_triangle_distance(a0, a1, r.shell.positions[t[0]],
                                                               r.shell.positions[t[1]], r.shell.positions[t[2]]));
       });
-      // 1 um: a Boolean operation that met a degenerate contact moved its operand by a few float ulp.
-      EXPECT_GE(nearest, tube.inner_radius - 1e-3) << "the bore is not open";
+      // Exact but for what the Boolean operations report: the displacement of a degenerate contact and
+      // the curve edges collapsed before rounding to float (256 ulp: 6 um at 200 mm).
+      EXPECT_GE(nearest, tube.inner_radius - 1e-5 - r.max_perturbation - r.curve_tolerance)
+          << "the bore is not open";
+      EXPECT_LT(r.max_perturbation + r.curve_tolerance, 0.02);
       // Sleeve material between the radii over [offset, offset + length], except where the bone is.
       Vec3 u, v;
       orthonormal_frame(tube_axis(tube), u, v);

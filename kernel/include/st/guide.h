@@ -47,6 +47,8 @@ struct GuideResult {
   double bore_seconds = 0.0;           ///< bores united and cut
   double seconds = 0.0;                ///< all of it: the paper's "Runtime of Boolean operation"
   int perturbed_operations = 0;        ///< Boolean operations that needed a tiny displacement
+  double max_perturbation = 0.0;       ///< the largest such displacement, mm (surfaces may move this much)
+  double curve_tolerance = 0.0;        ///< how far the intersection curves may have moved, mm (boolean.h)
   TriangleMesh columns;                ///< the sleeve columns united (second operand of the union)
   TriangleMesh bores;                  ///< the bores united (second operand of the difference)
 };

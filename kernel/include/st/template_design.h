@@ -61,6 +61,8 @@ struct TemplateResult {
   std::vector<std::uint8_t> from_tube; ///< per shell face: 1 for sleeve and bore faces
   std::vector<TubePlacement> tubes;    ///< per tube: where its sleeve and bore were put
   int perturbed_operations = 0;  ///< Boolean operations that needed a tiny displacement
+  double max_perturbation = 0.0; ///< the largest such displacement, mm
+  double curve_tolerance = 0.0;  ///< how far the Boolean intersection curves may have moved, mm
   TriangleMesh columns, bores;   ///< the operands of the tubes' union and difference (guide.h)
   TriangleMesh inner;            ///< inner surface (bone side), oriented as the bone
   TriangleMesh outer;            ///< outer surface, oriented outward

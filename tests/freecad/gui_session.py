@@ -1,0 +1,108 @@
+"""Runs in a real FreeCAD window (under Xvfb in tests): the workbench's commands end to end, boundary
+drawn by clicks at the screen positions of the control points, screenshots measured. Writes
+$ST_OUT/gui-result.json; test_gui.py asserts on it."""
+import json
+import os
+import traceback
+
+import FreeCAD as App
+import FreeCADGui as Gui
+from PySide import QtCore, QtGui
+
+out, case_path = os.environ["ST_OUT"], os.environ["ST_CASE"]
+result = {"errors": []}
+
+
+def blue_fraction(path):
+    """Fraction of the image's pixels in the guide's blue (shaded)."""
+    image = QtGui.QImage(path)
+    blue = total = 0
+    for y in range(0, image.height(), 4):
+        for x in range(0, image.width(), 4):
+            c = QtGui.QColor(image.pixel(x, y))
+            total += 1
+            blue += c.blue() > c.red() + 40 and c.blue() > c.green() + 15
+    return blue / max(total, 1)
+
+
+def shot(name, view_direction=None):
+    view = Gui.ActiveDocument.ActiveView
+    if view_direction:
+        view.setViewDirection(view_direction)
+    view.fitAll()
+    Gui.updateGui()
+    path = os.path.join(out, name + ".png")
+    view.saveImage(path, 800, 600, "White")
+    result[name] = {"path": path, "blue": blue_fraction(path)}
+
+
+def work():
+    try:
+        Gui.activateWorkbench("SurgicalTemplateWorkbench")
+        import st_commands
+        import SurgicalTemplate
+
+        result["workbench"] = Gui.activeWorkbench().name()
+        result["commands"] = [c for c in Gui.listCommands() if c.startswith("SurgicalTemplate_")]
+        # Open a case through the command's code path (the file dialog is the only part skipped).
+        assert st_commands.open_case(case_path)
+        doc = App.ActiveDocument
+        guide = [o for o in doc.Objects if getattr(getattr(o, "Proxy", None), "kind", "") == "Guide"][0]
+        result["guide_state"] = list(guide.State)
+        result["guide_status"] = guide.Status
+        for o in doc.Objects:
+            if o.TypeId == "Mesh::Feature" or getattr(o.Proxy if hasattr(o, "Proxy") else None, "kind", "") in (
+                    "Template", "Tube", "Boundary"):
+                o.ViewObject.Visibility = o.TypeId == "Mesh::Feature"
+        case = json.load(open(case_path))
+        shot("gui-guide", tuple(case["tubes"][0]["direction"]) if case.get("tubes") else None)
+
+        # Draw a boundary by clicking on the bone in a second document, then design its template.
+        bone_file = os.path.join(os.path.dirname(case_path), case["bone"])
+        doc2 = App.newDocument("Drawn")
+        bone = SurgicalTemplate.make_bone(bone_file, doc2)
+        doc2.recompute()
+        Gui.ActiveDocument.ActiveView.setViewDirection(tuple(case["tubes"][0]["direction"]))
+        Gui.SendMsgToActiveView("ViewFit")
+        Gui.updateGui()
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(bone)
+        Gui.runCommand("SurgicalTemplate_DrawBoundary")
+        panel = Gui.Control.activeDialog() and st_commands_active_panel()
+        view = Gui.ActiveDocument.ActiveView
+        clicks = 0
+        for p in case["boundary"]["points"]:
+            pos = view.getPointOnScreen(App.Vector(*p))
+            clicks += bool(panel.click((int(pos[0]), int(pos[1]))))
+            Gui.updateGui()
+        result["clicks_on_bone"] = clicks
+        result["preview_length"] = panel.preview.Shape.Length if panel.preview is not None else 0.0
+        panel.accept()
+        boundaries = [o for o in doc2.Objects if getattr(getattr(o, "Proxy", None), "kind", "") == "Boundary"]
+        result["boundaries"] = [b.Name for b in boundaries]
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(boundaries[0])
+        Gui.runCommand("SurgicalTemplate_CreateTemplate")
+        templates = [o for o in doc2.Objects if getattr(getattr(o, "Proxy", None), "kind", "") == "Template"]
+        result["drawn_template"] = {"facets": templates[0].Mesh.CountFacets, "state": list(templates[0].State),
+                                    "status": templates[0].Status}
+        templates[0].ViewObject.ShapeColor = (0.20, 0.45, 0.85)
+        boundaries[0].ViewObject.LineColor = (0.85, 0.26, 0.23)
+        shot("gui-drawn-template")
+    except Exception:
+        result["errors"].append(traceback.format_exc())
+    finally:
+        with open(os.path.join(out, "gui-result.json"), "w") as f:
+            json.dump(result, f, indent=1)
+        for name in list(App.listDocuments()):
+            App.closeDocument(name)
+        QtCore.QTimer.singleShot(0, Gui.getMainWindow().close)
+
+
+def st_commands_active_panel():
+    """The task panel the DrawBoundary command opened."""
+    import st_commands
+    return st_commands.BoundaryPanel.last
+
+
+QtCore.QTimer.singleShot(1000, work)

@@ -1,0 +1,86 @@
+"""Runs inside FreeCAD's Python (see test_workbench.py): the workbench API end to end, headless.
+Prints one JSON line "RESULT {...}" with what the test asserts."""
+import json
+import os
+import sys
+
+sys.path.append("/usr/lib/freecad-python3/lib")
+import FreeCAD as App  # noqa: E402
+
+import SurgicalTemplate as st  # noqa: E402  (found in the Mod folder FreeCAD scanned)
+import st_bridge  # noqa: E402
+
+case, out = os.environ["ST_CASE"], os.environ["ST_OUT"]
+k = st_bridge.kernel()
+result = {}
+
+
+def measure(guide, tag):
+    path = os.path.join(out, tag + ".stl")
+    st.export(guide, path)
+    report = k.check_solid(*k.read_mesh(path))
+    result[tag] = {"valid": report["valid"], "components": report["components"], "volume": report["volume"],
+                   "facets": guide.Mesh.CountFacets, "state": list(guide.State)}
+
+
+guide = st.load_case(case)
+doc = guide.Document
+doc.UndoMode = 1
+measure(guide, "loaded")
+result["tree"] = {"shell": guide.Shell.Name, "tubes": [t.Label for t in guide.Tubes],
+                  "thickness": guide.Shell.Thickness.Value, "outer_radius": guide.Tubes[0].OuterRadius.Value,
+                  "tube_is_solid": guide.Tubes[0].Shape.isValid() and len(guide.Tubes[0].Shape.Solids) == 1,
+                  "tube_volume": guide.Tubes[0].Shape.Volume}
+
+guide.Tubes[0].OuterRadius = guide.Tubes[0].OuterRadius.Value + 0.8
+doc.recompute()
+measure(guide, "wider_sleeve")
+guide.Shell.Thickness = guide.Shell.Thickness.Value + 1.0
+doc.recompute()
+measure(guide, "thicker")
+
+# Undo and redo of one parameter change.
+doc.openTransaction("thinner")
+guide.Shell.Thickness = 2.0
+doc.commitTransaction()
+doc.recompute()
+measure(guide, "thinner")
+doc.undo()
+doc.recompute()
+result["after_undo_thickness"] = guide.Shell.Thickness.Value
+measure(guide, "undone")
+doc.redo()
+doc.recompute()
+result["after_redo_thickness"] = guide.Shell.Thickness.Value
+doc.undo()
+doc.recompute()
+
+# A failing kernel call leaves the document usable and the last good guide in place.
+tube = guide.Tubes[0]
+entry = App.Vector(tube.Entry)
+tube.Entry = entry + App.Vector(200, 200, 200)
+doc.recompute()
+result["failed"] = {"state": list(guide.State), "facets": guide.Mesh.CountFacets}
+tube.Entry = entry
+doc.recompute()
+measure(guide, "repaired")
+
+# Save, close, reopen, recompute: the same guide.
+fcstd = os.path.join(out, "guide.FCStd")
+doc.saveAs(fcstd)
+name = guide.Name
+App.closeDocument(doc.Name)
+doc = App.openDocument(fcstd)
+guide = doc.getObject(name)
+result["restored_facets"] = guide.Mesh.CountFacets
+for o in doc.Objects:
+    o.touch()
+doc.recompute()
+measure(guide, "reopened")
+
+# Case round trip.
+saved = st.save_case(guide, os.path.join(out, "roundtrip.json"))
+again = st.load_case(saved)
+measure(again, "roundtrip")
+result["roundtrip_case"] = json.load(open(saved))
+print("RESULT " + json.dumps(result))

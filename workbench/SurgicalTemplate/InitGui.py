@@ -1,0 +1,26 @@
+# Surgical Template workbench: registered at FreeCAD's start; commands load when it is activated.
+import os
+
+import FreeCADGui as Gui
+
+
+class SurgicalTemplateWorkbench(Gui.Workbench):
+    MenuText = "Surgical Template"
+    ToolTip = "Patient-specific surgical guides on bone scans: boundary, template, drilling sleeves"
+
+    def __init__(self):
+        import SurgicalTemplate_paths  # noqa: F401  (the folder of this file, for the icon below)
+        self.__class__.Icon = os.path.join(SurgicalTemplate_paths.HERE, "icons", "SurgicalTemplate_Workbench.svg")
+
+    def Initialize(self):
+        import st_commands
+
+        names = st_commands.register()
+        self.appendToolbar("Surgical Template", names)
+        self.appendMenu("Surgical Template", names)
+
+    def GetClassName(self):
+        return "Gui::PythonWorkbench"
+
+
+Gui.addWorkbench(SurgicalTemplateWorkbench())
