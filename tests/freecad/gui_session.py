@@ -36,6 +36,23 @@ def shot(name, view_direction=None):
     result[name] = {"path": path, "blue": blue_fraction(path)}
 
 
+def grab_window(path):
+    """The main window with the 3D view painted in (a widget grab leaves the OpenGL view empty)."""
+    mw = Gui.getMainWindow()
+    pixmap = mw.grab()
+    mdi = mw.findChild(QtGui.QMdiArea)
+    sub = mdi.activeSubWindow() if mdi else None
+    if sub is not None:
+        widget = sub.widget()
+        corner = widget.mapTo(mw, QtCore.QPoint(0, 0))
+        view_png = os.path.join(out, "view-for-window.png")
+        Gui.ActiveDocument.ActiveView.saveImage(view_png, widget.width(), widget.height(), "Current")
+        painter = QtGui.QPainter(pixmap)
+        painter.drawImage(corner, QtGui.QImage(view_png))
+        painter.end()
+    pixmap.save(path)
+
+
 def work():
     try:
         Gui.activateWorkbench("SurgicalTemplateWorkbench")
@@ -56,6 +73,13 @@ def work():
                 o.ViewObject.Visibility = o.TypeId == "Mesh::Feature"
         case = json.load(open(case_path))
         shot("gui-guide", tuple(case["tubes"][0]["direction"]) if case.get("tubes") else None)
+        # The whole window: workbench toolbar, tree, view (for the README).
+        Gui.Selection.addSelection(guide)
+        Gui.updateGui()
+        window = os.path.join(out, "gui-window.png")
+        grab_window(window)
+        result["window"] = window
+        Gui.Selection.clearSelection()
 
         # Draw a boundary by clicking on the bone in a second document, then design its template.
         bone_file = os.path.join(os.path.dirname(case_path), case["bone"])
