@@ -61,6 +61,8 @@ def work():
 
         result["workbench"] = Gui.activeWorkbench().name()
         result["commands"] = [c for c in Gui.listCommands() if c.startswith("SurgicalTemplate_")]
+        # A default from the preferences page: the drawn template below must use it.
+        App.ParamGet("User parameter:BaseApp/Preferences/Mod/SurgicalTemplate").SetFloat("Thickness", 2.8)
         # Open a case through the command's code path (the file dialog is the only part skipped).
         assert st_commands.open_case(case_path)
         doc = App.ActiveDocument
@@ -109,7 +111,7 @@ def work():
         Gui.runCommand("SurgicalTemplate_CreateTemplate")
         templates = [o for o in doc2.Objects if getattr(getattr(o, "Proxy", None), "kind", "") == "Template"]
         result["drawn_template"] = {"facets": templates[0].Mesh.CountFacets, "state": list(templates[0].State),
-                                    "status": templates[0].Status}
+                                    "status": templates[0].Status, "thickness": templates[0].Thickness.Value}
         templates[0].ViewObject.ShapeColor = (0.20, 0.45, 0.85)
         boundaries[0].ViewObject.LineColor = (0.85, 0.26, 0.23)
         shot("gui-drawn-template")

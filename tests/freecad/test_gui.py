@@ -52,4 +52,5 @@ def test_boundary_drawn_by_clicks_gives_a_template(session):
     assert len(session["boundaries"]) == 1
     t = session["drawn_template"]
     assert t["facets"] > 1000 and "Invalid" not in t["state"]
+    assert t["thickness"] == pytest.approx(2.8)  # the default set in the preferences
     assert session["gui-drawn-template"]["blue"] > 0.01

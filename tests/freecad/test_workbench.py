@@ -14,7 +14,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 def install_workbench(user_data):
     """The workbench and the kernel module in a private FreeCAD user folder, as `make install` does."""
     target = os.path.join(user_data, "Mod", "SurgicalTemplate")
-    shutil.copytree(os.path.join(ROOT, "workbench", "SurgicalTemplate"), target)
+    shutil.copytree(os.path.join(ROOT, "workbench", "SurgicalTemplate"), target)  # .py, .ui, package.xml
     shutil.copytree(os.path.join(ROOT, "icons"), os.path.join(target, "icons"), dirs_exist_ok=True)
     python_dir = os.environ.get("ST_PYTHON_DIR", os.path.join(os.getcwd(), "python"))
     for f in os.listdir(python_dir):

@@ -24,3 +24,12 @@ class SurgicalTemplateWorkbench(Gui.Workbench):
 
 
 Gui.addWorkbench(SurgicalTemplateWorkbench())
+
+
+def _add_preferences():
+    import SurgicalTemplate_paths
+
+    Gui.addPreferencePage(os.path.join(SurgicalTemplate_paths.HERE, "preferences.ui"), "Surgical Template")
+
+
+_add_preferences()

@@ -21,9 +21,9 @@ def icon(name):
 
 
 def preference(name, default):
+    """A default from the preferences page (Edit > Preferences > Surgical Template), in mm."""
     p = App.ParamGet(PREFS)
-    value = p.GetFloat(name, 0.0)
-    return value if value > 0 else default
+    return p.GetFloat(name, default) if name in p.GetFloats() else default
 
 
 def run(title, code):
@@ -129,7 +129,7 @@ class CreateTemplate(_Command):
         b = selected("Boundary")[0]
         run("Create template",
             f"SurgicalTemplate.make_template({ref(b)}, thickness={preference('Thickness', 2.5)}, "
-            f"clearance={preference('Clearance', 0.0) if preference('Clearance', -1) > 0 else 0.0})\n"
+            f"clearance={preference('Clearance', 0.0)}, resolution={preference('Resolution', 0.0)})\n"
             "App.ActiveDocument.recompute()")
 
 
@@ -299,8 +299,10 @@ class TubePanel:
         self.form.setWindowTitle("Drilling tube")
         grid = QtGui.QFormLayout(self.form)
         self.fields = {}
-        for key, label, value in (("inner", "Inner radius (mm)", 1.1), ("outer", "Outer radius (mm)", 2.0),
-                                  ("length", "Length (mm)", 5.0), ("offset", "Offset (mm)", 3.0)):
+        for key, label, value in (("inner", "Inner radius (mm)", preference("InnerRadius", 1.1)),
+                                  ("outer", "Outer radius (mm)", preference("OuterRadius", 2.0)),
+                                  ("length", "Length (mm)", preference("Length", 5.0)),
+                                  ("offset", "Offset (mm)", preference("Offset", 3.0))):
             box = QtGui.QDoubleSpinBox()
             box.setRange(0.0, 100.0)
             box.setDecimals(2)
