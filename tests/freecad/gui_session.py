@@ -112,8 +112,28 @@ def work():
         templates = [o for o in doc2.Objects if getattr(getattr(o, "Proxy", None), "kind", "") == "Template"]
         result["drawn_template"] = {"facets": templates[0].Mesh.CountFacets, "state": list(templates[0].State),
                                     "status": templates[0].Status, "thickness": templates[0].Thickness.Value}
-        templates[0].ViewObject.ShapeColor = (0.20, 0.45, 0.85)
+        # A tube by the Add tube command: click its entry on the bone; then the guide from the selection.
+        Gui.runCommand("SurgicalTemplate_AddTube")
+        tube_panel = st_commands.TubePanel.last
+        templates[0].ViewObject.Visibility = False  # click the bone, not the template over it
+        Gui.updateGui()
+        pos = view.getPointOnScreen(App.Vector(*case["tubes"][0]["entry"]))
+        result["tube_click"] = bool(tube_panel.click((int(pos[0]), int(pos[1]))))
+        tube_panel.accept()
+        templates[0].ViewObject.Visibility = True
+        tubes = [o for o in doc2.Objects if getattr(getattr(o, "Proxy", None), "kind", "") == "Tube"]
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(templates[0])
+        for t in tubes:
+            Gui.Selection.addSelection(t)
+        Gui.runCommand("SurgicalTemplate_CreateGuide")
+        guides = [o for o in doc2.Objects if getattr(getattr(o, "Proxy", None), "kind", "") == "Guide"]
+        result["drawn_guide"] = {"tubes": len(tubes), "guides": len(guides),
+                                 "state": list(guides[0].State) if guides else [],
+                                 "status": guides[0].Status if guides else ""}
         boundaries[0].ViewObject.LineColor = (0.85, 0.26, 0.23)
+        Gui.Selection.clearSelection()
+        result["template_hidden_by_guide"] = not templates[0].ViewObject.Visibility
         shot("gui-drawn-template")
     except Exception:
         result["errors"].append(traceback.format_exc())

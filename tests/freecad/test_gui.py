@@ -54,3 +54,11 @@ def test_boundary_drawn_by_clicks_gives_a_template(session):
     assert t["facets"] > 1000 and "Invalid" not in t["state"]
     assert t["thickness"] == pytest.approx(2.8)  # the default set in the preferences
     assert session["gui-drawn-template"]["blue"] > 0.01
+
+
+def test_tube_added_by_a_click_and_guide_created_by_the_commands(session):
+    assert session["tube_click"]
+    g = session["drawn_guide"]
+    assert g["tubes"] == 1 and g["guides"] == 1
+    assert "Invalid" not in g["state"] and "no self-intersection" in g["status"]
+    assert session["template_hidden_by_guide"]

@@ -128,6 +128,9 @@ def make_guide(shell, tubes=(), tolerance=0.01, name="SurgicalGuide"):
         _view(obj, "SurgicalTemplate_Guide.svg")
         if App.GuiUp:
             obj.ViewObject.ShapeColor = (0.20, 0.45, 0.85)
+            # The guide replaces its shell and sleeves in the view (they stay in the tree under it).
+            for part in [shell, *tubes]:
+                part.ViewObject.Visibility = False
     return obj
 
 

@@ -293,7 +293,10 @@ class AddTube(_Command):
 
 
 class TubePanel:
+    last = None  # the open panel, for scripts and tests
+
     def __init__(self, bone, guide):
+        TubePanel.last = self
         self.bone, self.guide = bone, guide
         self.form = QtGui.QWidget()
         self.form.setWindowTitle("Drilling tube")
@@ -336,12 +339,12 @@ class TubePanel:
         return True
 
     def accept(self):
+        f = {k: v.value() for k, v in self.fields.items()}  # before closing deletes the widgets
         self.view.removeEventCallback("SoMouseButtonEvent", self.callback)
         Gui.Control.closeDialog()
         if self.picked is None:
             return True
         p, d = self.picked
-        f = {k: v.value() for k, v in self.fields.items()}
         code = (f"tube = SurgicalTemplate.make_tube(({p.x:.4f}, {p.y:.4f}, {p.z:.4f}), ({d.x:.5f}, {d.y:.5f}, "
                 f"{d.z:.5f}), {f['inner']}, {f['outer']}, {f['length']}, {f['offset']})\n")
         if self.guide is not None:
