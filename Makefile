@@ -54,12 +54,14 @@ demo: build
 bench: build
 	/usr/bin/python3 bench/run_bench.py --build $(BUILD)
 
-# The same benchmark with the off-the-shelf reference chain (VTK + OpenVDB from Debian) side by side.
+# The same benchmark with the off-the-shelf references side by side: the initial template with VTK +
+# OpenVDB, the Boolean operation with CGAL's corefinement and VTK's two Boolean filters (all Debian).
 bench-references: build
-	@ST_EXTRA_PACKAGES="libvtk9-dev libopenvdb-dev libtbb-dev libboost-iostreams-dev" scripts/setup.sh
+	@ST_EXTRA_PACKAGES="libvtk9-dev libopenvdb-dev libtbb-dev libboost-iostreams-dev libcgal-dev" scripts/setup.sh
 	cmake -S . -B build-ref $(CMAKE_FLAGS) -DST_BENCH_REFERENCES=ON -DST_BUILD_TESTS=OFF
-	cmake --build build-ref -j$(JOBS) --target reference-chain
-	/usr/bin/python3 bench/run_bench.py --build $(BUILD) --reference build-ref/reference-chain --write
+	cmake --build build-ref -j$(JOBS) --target reference-chain boolean-reference
+	/usr/bin/python3 bench/run_bench.py --build $(BUILD) --reference build-ref/reference-chain \
+	  --reference-boolean build-ref/boolean-reference --write
 
 clean:
 	rm -rf $(BUILD) build-asan build-fuzz out
