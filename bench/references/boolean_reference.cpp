@@ -35,6 +35,7 @@
 #include "st/mesh_io.h"
 #include "st/validate.h"
 
+#include "report_json.h"
 #include "vtk_convert.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -77,6 +78,8 @@ using st::Index;
 using st::TriangleMesh;
 using st::Vec3;
 using st::bench::from_vtk;
+using st::bench::median;
+using st::bench::solid_json;
 using st::bench::to_vtk;
 using Clock = std::chrono::steady_clock;
 namespace PMP = CGAL::Polygon_mesh_processing;
@@ -395,30 +398,6 @@ Outcome run_kernel(const Operands& in, int repeat, double budget) {
 
 // ---- reporting ----------------------------------------------------------------------------------
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-nlohmann::json solid_json(const st::SolidReport& s) {
-  return {{"valid", s.valid()},
-          {"closed", s.closed()},
-          {"manifold", s.manifold()},
-          {"oriented", s.oriented()},
-          {"self_intersection_free", s.self_intersections == 0},
-          {"vertices", s.vertices},
-          {"triangles", s.triangles},
-          {"border_edges", s.border_edges},
-          {"nonmanifold_edges", s.nonmanifold_edges},
-          {"nonmanifold_vertices", s.nonmanifold_vertices},
-          {"misoriented_edges", s.misoriented_edges},
-          {"degenerate_triangles", s.degenerate_triangles},
-          {"self_intersections", s.self_intersections},
-          {"components", s.components},
-          {"volume", s.volume},
-          {"summary", s.summary()}};
-}
 
 std::string library_version(const std::string& library) {
   if (library == "cgal") return "CGAL " CGAL_VERSION_STR;

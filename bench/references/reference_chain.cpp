@@ -26,6 +26,7 @@
 #include "st/topology.h"
 #include "st/validate.h"
 
+#include "report_json.h"
 #include "vtk_convert.h"
 
 #include <nlohmann/json.hpp>
@@ -68,6 +69,8 @@ using st::Index;
 using st::TriangleMesh;
 using st::Vec3;
 using st::bench::from_vtk;
+using st::bench::median;
+using st::bench::solid_json;
 using st::bench::to_vtk;
 using Clock = std::chrono::steady_clock;
 
@@ -378,30 +381,6 @@ void run_chain(const ChainInput& in, ChainRun& run) {
 
 // ---- reporting ----------------------------------------------------------------------------------
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-nlohmann::json solid_json(const st::SolidReport& s) {
-  return {{"valid", s.valid()},
-          {"closed", s.closed()},
-          {"manifold", s.manifold()},
-          {"oriented", s.oriented()},
-          {"self_intersection_free", s.self_intersections == 0},
-          {"vertices", s.vertices},
-          {"triangles", s.triangles},
-          {"border_edges", s.border_edges},
-          {"nonmanifold_edges", s.nonmanifold_edges},
-          {"nonmanifold_vertices", s.nonmanifold_vertices},
-          {"misoriented_edges", s.misoriented_edges},
-          {"degenerate_triangles", s.degenerate_triangles},
-          {"self_intersections", s.self_intersections},
-          {"components", s.components},
-          {"volume", s.volume},
-          {"summary", s.summary()}};
-}
 
 int usage() {
   std::cerr << "usage: reference-chain CASE.json [--runs N] [--json OUT.json]\n";
