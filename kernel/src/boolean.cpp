@@ -226,15 +226,15 @@ public:
       : a_(a), b_(b), options_(options), na_(a.vertex_count()), nb_(b.vertex_count()), short_edge_(short_edge) {}
 
   BooleanResult run(BooleanOp op) {
-    const bool debug = std::getenv("ST_DEBUG_BOOLEAN") != nullptr;
     auto t = std::chrono::steady_clock::now();
     auto lap = [&](const char* what) {
-      if (!debug) return;
+      if (!debug_) return;
       const auto now = std::chrono::steady_clock::now();
       std::fprintf(stderr, "  %-10s %.4f s\n", what, std::chrono::duration<double>(now - t).count());
       t = now;
     };
     find_segments();
+    for (const SeamSegment& g : seam_) seam_edges_.insert(edge_key(g.p, g.q)); // both sides use it
     lap("segments");
     split_faces();
     lap("split");
@@ -410,8 +410,6 @@ private:
   void classify(int s) {
     std::vector<Piece>& pieces = pieces_[s];
     const std::size_t n = pieces.size();
-    std::unordered_set<std::uint64_t> seam_edges;
-    for (const SeamSegment& g : seam_) seam_edges.insert(edge_key(g.p, g.q));
     std::vector<std::pair<std::uint64_t, Index>> edges;
     edges.reserve(3 * n);
     for (Index i = 0; i < n; ++i)
@@ -424,7 +422,7 @@ private:
       std::size_t j = i;
       while (j < edges.size() && edges[j].first == edges[i].first) ++j;
       const std::size_t uses = j - i;
-      const bool seam = seam_edges.count(edges[i].first) != 0;
+      const bool seam = seam_edges_.count(edges[i].first) != 0;
       if (uses == 1) {
         if (seam) throw Degenerate{"an intersection edge with one side"};
         touches_outside[edges[i].second] = 1; // shared with a face far from the other operand
@@ -575,14 +573,14 @@ private:
       // keep() is evaluated once per component.
       std::vector<std::int8_t> kept(verdicts_[s].size(), -1);
       for (std::size_t i = 0; i < pieces_[s].size(); ++i) {
-        const Index c = component_of(s, i);
+        const Index c = components_[s][i];
         if (kept[c] < 0) kept[c] = keep(s, verdicts_[s][c], op) ? 1 : 0;
         if (!kept[c]) continue;
         (s == 1 || split_[s].count(pieces_[s][i].source) ? fresh : unchanged).push_back(out.face_count());
         emit(pieces_[s][i].t, reverse, static_cast<std::uint8_t>(s), pieces_[s][i].source);
       }
     }
-    if (std::getenv("ST_DEBUG_BOOLEAN"))
+    if (debug_)
       std::fprintf(stderr, "  local faces %zu + %zu, pairs %zu, fresh %zu\n", pieces_[0].size(), pieces_[1].size(),
                    seam_.size(), fresh.size());
     if (options_.round_to_float) {
@@ -590,7 +588,7 @@ private:
       for (std::size_t id = na_ + nb_; id < total; ++id)
         if (remap[id] != kInvalidIndex) seam_vertex[remap[id]] = 1;
       result.collapsed_edges = collapse_short_edges(result, seam_vertex, short_edge_, fresh, unchanged);
-      if (std::getenv("ST_DEBUG_BOOLEAN"))
+      if (debug_)
         std::fprintf(stderr, "  collapsed %zu edges under %.3g\n", result.collapsed_edges, short_edge_);
     }
     check_fresh(out, fresh, unchanged);
@@ -599,8 +597,6 @@ private:
     result.split_faces = split_[0].size() + split_[1].size();
     return result;
   }
-
-  Index component_of(int s, std::size_t piece) const { return components_[s][piece]; }
 
   // A curve point within a few hundred float ulp of a neighbour makes sliver faces whose planes turn
   // by whole degrees when their corners are rounded to float32, enough for two nearly tangent faces
@@ -729,7 +725,7 @@ private:
       const std::array<Vec3, 3> pa = {out.positions[ta[0]], out.positions[ta[1]], out.positions[ta[2]]};
       const std::array<Vec3, 3> pb = {out.positions[tb[0]], out.positions[tb[1]], out.positions[tb[2]]};
       if (mesh_triangles_intersect(ta, pa, tb, pb)) {
-        if (std::getenv("ST_DEBUG_BOOLEAN")) {
+        if (debug_) {
           std::fprintf(stderr, "  crossing faces %u and %u:\n", f, g);
           for (const auto* p : {&pa, &pb})
             std::fprintf(stderr, "    (%.9g %.9g %.9g) (%.9g %.9g %.9g) (%.9g %.9g %.9g)\n", (*p)[0].x(), (*p)[0].y(),
@@ -756,12 +752,14 @@ private:
   const BooleanOptions& options_;
   const Index na_, nb_;
   const double short_edge_;
+  const bool debug_ = std::getenv("ST_DEBUG_BOOLEAN") != nullptr; // phase times and failures to stderr
   std::vector<Vec3> points_;
   std::vector<double> point_t_;
   std::unordered_map<PointKey, Index, PointKeyHash> point_index_;
   std::unordered_map<Index, FaceWork> work_[2];
   std::unordered_map<Index, std::vector<Triangle>> split_[2];
   std::vector<SeamSegment> seam_;
+  std::unordered_set<std::uint64_t> seam_edges_; // edge keys of seam_, for both sides' classification
   std::vector<std::uint8_t> local_[2];
   std::vector<Piece> pieces_[2];
   std::vector<Index> components_[2];
