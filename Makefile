@@ -43,7 +43,7 @@ test-fuzz: deps
 	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DST_FUZZ=ON \
 	  -DST_BUILD_TESTS=OFF -DST_BUILD_PYTHON=OFF \
 	  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer"
-	cmake --build build-fuzz -j$(JOBS) --target fuzz_stl fuzz_ply fuzz_obj fuzz_gz fuzz_case
+	cmake --build build-fuzz -j$(JOBS) --target fuzz_stl fuzz_ply fuzz_obj fuzz_gz fuzz_case fuzz_plan
 	ctest --test-dir build-fuzz -j$(JOBS) --output-on-failure -R fuzz_
 
 demo: build

@@ -111,6 +111,7 @@ inline TubeSpec to_tube(const py::handle& item, const std::string& where) {
   t.outer_radius = number("outer_radius", std::nullopt);
   t.length = number("length", std::nullopt);
   t.offset = number("offset", 0.0);
+  t.depth = number("depth", 0.0);
   return t;
 }
 
@@ -131,6 +132,7 @@ inline py::dict tube_dict(const TubeSpec& t) {
   td["outer_radius"] = t.outer_radius;
   td["length"] = t.length;
   td["offset"] = t.offset;
+  td["depth"] = t.depth;
   return td;
 }
 

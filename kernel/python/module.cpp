@@ -9,6 +9,7 @@ void bind_mesh(py::module_& m);
 void bind_template(py::module_& m);
 void bind_case(py::module_& m);
 void bind_boolean(py::module_& m);
+void bind_plan(py::module_& m);
 #ifdef ST_HAVE_OCCT
 void bind_occt(py::module_& m);
 #endif
@@ -19,6 +20,7 @@ PYBIND11_MODULE(stkernel, m) {
   bind_template(m);
   bind_case(m);
   bind_boolean(m);
+  bind_plan(m);
   // The OpenCASCADE sleeves are an optional part of the build (ST_WITH_OCCT); callers test has_occt.
 #ifdef ST_HAVE_OCCT
   m.attr("has_occt") = true;

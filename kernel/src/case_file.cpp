@@ -1,72 +1,45 @@
 #include "st/case_file.h"
 
+#include "detail/json_reader.h"
 #include "st/errors.h"
-
-#include <nlohmann/json.hpp>
+#include "st/plan.h"
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <set>
-#include <sstream>
 
 namespace st {
 
 namespace {
 
-using nlohmann::json;
 namespace fs = std::filesystem;
+using detail::json;
 
-class Reader {
-public:
-  explicit Reader(std::string file) : file_(std::move(file)) {}
-
-  [[noreturn]] void fail(const std::string& key, const std::string& why) const {
-    throw InvalidInput(file_ + ": " + key + ": " + why);
-  }
-
-  double number(const json& j, const std::string& key) const {
-    if (!j.is_number()) fail(key, "must be a number, got " + std::string(j.type_name()));
-    const double v = j.get<double>();
-    if (!std::isfinite(v)) fail(key, "must be finite");
-    return v;
-  }
-
-  Vec3 point(const json& j, const std::string& key) const {
-    if (!j.is_array() || j.size() != 3) fail(key, "must be an array of 3 numbers [x, y, z]");
-    return {number(j[0], key + "[0]"), number(j[1], key + "[1]"), number(j[2], key + "[2]")};
-  }
-
-  std::string string(const json& j, const std::string& key) const {
-    if (!j.is_string()) fail(key, "must be a string, got " + std::string(j.type_name()));
-    return j.get<std::string>();
-  }
-
-  const json& required(const json& obj, const std::string& name, const std::string& key) const {
-    if (!obj.contains(name)) fail(key, "is required");
-    return obj.at(name);
-  }
-
-  void unknown_keys(const json& obj, const std::set<std::string>& known, const std::string& where,
-                    std::vector<std::string>& warnings) const {
-    for (const auto& [k, v] : obj.items())
-      if (!known.count(k)) warnings.push_back(file_ + ": unknown key '" + where + k + "' ignored");
-  }
-
-private:
-  std::string file_;
-};
+/// A markups file named by the case, in the bone's frame (the bone's header is read once, when the
+/// first markups file needs it).
+Plan case_markups(const std::string& file, const CaseFile& c, std::optional<Space>& space) {
+  if (!space) space = mesh_file_space(c.bone);
+  return read_markups(file, *space);
+}
 
 } // namespace
 
+std::optional<std::pair<std::string, std::string>> tube_size_problem(const TubeSpec& t) {
+  if (!(t.inner_radius > 0.0)) return std::pair{"inner_radius", "must be > 0"};
+  if (!(t.outer_radius > t.inner_radius)) return std::pair{"outer_radius", "must be > inner_radius"};
+  if (!(t.length > 0.0)) return std::pair{"length", "must be > 0"};
+  if (!(t.offset >= 0.0)) return std::pair{"offset", "must be >= 0"};
+  if (!(t.depth >= 0.0)) return std::pair{"depth", "must be >= 0"};
+  // The same bounds as check_tube (sleeve.h): a sleeve over 1 m wide or 10 m long is a unit error.
+  if (t.outer_radius >= 1e3) return std::pair{"outer_radius", "is absurd (must be under 1000 mm)"};
+  if (t.length >= 1e4) return std::pair{"length", "is absurd (must be under 10000 mm)"};
+  if (t.offset >= 1e4) return std::pair{"offset", "is absurd (must be under 10000 mm)"};
+  if (t.depth >= 1e4) return std::pair{"depth", "is absurd (must be under 10000 mm)"};
+  return std::nullopt;
+}
+
 CaseFile parse_case(const std::string& text, const std::string& path) {
-  const Reader r(path);
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::exception& e) { // parse_error, and out_of_range for a number that overflows
-    throw InvalidInput(path + ": not valid JSON: " + e.what());
-  }
+  const detail::JsonReader r(path);
+  const json doc = r.parse(text);
   if (!doc.is_object()) r.fail("(top level)", "must be a JSON object");
   CaseFile c;
   c.path = path;
@@ -84,14 +57,23 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
   const json& boundary = r.required(doc, "boundary", "boundary");
   if (!boundary.is_object()) r.fail("boundary", "must be an object");
   r.unknown_keys(boundary, {"points", "inside", "markups"}, "boundary.", c.warnings);
-  if (boundary.contains("markups") && !boundary.contains("points"))
-    r.fail("boundary.markups", "3D Slicer markups are not supported by this version yet; give boundary.points");
-  const json& points = r.required(boundary, "points", "boundary.points");
-  if (!points.is_array()) r.fail("boundary.points", "must be an array of [x, y, z] points");
-  if (points.size() < 3)
-    r.fail("boundary.points", "needs at least 3 points, got " + std::to_string(points.size()));
-  for (std::size_t i = 0; i < points.size(); ++i)
-    c.boundary_points.push_back(r.point(points[i], "boundary.points[" + std::to_string(i) + "]"));
+  std::optional<Space> space; // the bone's frame, read only when markups need it
+  if (boundary.contains("points") && boundary.contains("markups"))
+    r.fail("boundary", "give either points or markups, not both");
+  if (boundary.contains("markups")) {
+    const std::string file = resolve(r.string(boundary["markups"], "boundary.markups"));
+    const Plan plan = case_markups(file, c, space);
+    if (plan.boundary_points.empty())
+      r.fail("boundary.markups", file + " holds no ClosedCurve (or point list) for the boundary");
+    c.boundary_points = plan.boundary_points;
+  } else {
+    const json& points = r.required(boundary, "points", "boundary.points");
+    if (!points.is_array()) r.fail("boundary.points", "must be an array of [x, y, z] points");
+    if (points.size() < 3)
+      r.fail("boundary.points", "needs at least 3 points, got " + std::to_string(points.size()));
+    for (std::size_t i = 0; i < points.size(); ++i)
+      c.boundary_points.push_back(r.point(points[i], "boundary.points[" + std::to_string(i) + "]"));
+  }
   if (boundary.contains("inside")) c.inside = r.point(boundary["inside"], "boundary.inside");
 
   const json& tpl = r.required(doc, "template", "template");
@@ -123,30 +105,36 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
       const std::string key = "tubes[" + std::to_string(i) + "]";
       const json& t = tubes[i];
       if (!t.is_object()) r.fail(key, "must be an object");
-      r.unknown_keys(t, {"name", "entry", "direction", "inner_radius", "outer_radius", "length", "offset", "markups"},
+      r.unknown_keys(t, {"name", "entry", "direction", "inner_radius", "outer_radius", "length", "offset", "depth",
+                         "markups"},
                      key + ".", c.warnings);
       TubeSpec tube;
       tube.name = t.contains("name") ? r.string(t["name"], key + ".name") : std::to_string(i + 1);
-      if (t.contains("markups") && !t.contains("entry"))
-        r.fail(key + ".markups", "3D Slicer markups are not supported by this version yet; give entry and direction");
-      tube.entry = r.point(r.required(t, "entry", key + ".entry"), key + ".entry");
-      tube.direction = r.point(r.required(t, "direction", key + ".direction"), key + ".direction");
-      const double len = tube.direction.stableNorm(); // no overflow for huge components
-      if (!(len > 1e-12)) r.fail(key + ".direction", "must be non-zero");
-      tube.direction /= len;
-      if (!tube.direction.allFinite()) r.fail(key + ".direction", "must be a finite, non-zero vector");
+      if (t.contains("markups")) {
+        if (t.contains("entry") || t.contains("direction"))
+          r.fail(key, "give either markups or entry and direction, not both");
+        const std::string file = resolve(r.string(t["markups"], key + ".markups"));
+        const Plan plan = case_markups(file, c, space);
+        if (plan.axes.size() != 1)
+          r.fail(key + ".markups", file + " must hold exactly one Line, found " + std::to_string(plan.axes.size()));
+        tube.entry = plan.axes[0].entry;
+        tube.direction = plan.axes[0].direction;
+        if (plan.axes[0].depth) tube.depth = *plan.axes[0].depth;
+        if (!t.contains("name")) tube.name = plan.axes[0].name;
+      } else {
+        tube.entry = r.point(r.required(t, "entry", key + ".entry"), key + ".entry");
+        tube.direction = r.point(r.required(t, "direction", key + ".direction"), key + ".direction");
+        const double len = tube.direction.stableNorm(); // no overflow for huge components
+        if (!(len > 1e-12)) r.fail(key + ".direction", "must be non-zero");
+        tube.direction /= len;
+        if (!tube.direction.allFinite()) r.fail(key + ".direction", "must be a finite, non-zero vector");
+      }
       tube.inner_radius = r.number(r.required(t, "inner_radius", key + ".inner_radius"), key + ".inner_radius");
       tube.outer_radius = r.number(r.required(t, "outer_radius", key + ".outer_radius"), key + ".outer_radius");
       tube.length = r.number(r.required(t, "length", key + ".length"), key + ".length");
       if (t.contains("offset")) tube.offset = r.number(t["offset"], key + ".offset");
-      if (!(tube.inner_radius > 0.0)) r.fail(key + ".inner_radius", "must be > 0");
-      if (!(tube.outer_radius > tube.inner_radius)) r.fail(key + ".outer_radius", "must be > inner_radius");
-      if (!(tube.length > 0.0)) r.fail(key + ".length", "must be > 0");
-      if (tube.offset < 0.0) r.fail(key + ".offset", "must be >= 0");
-      // The same bounds as check_tube (sleeve.h): a sleeve over 1 m wide or 10 m long is a unit error.
-      if (tube.outer_radius >= 1e3) r.fail(key + ".outer_radius", "is absurd (must be under 1000 mm)");
-      if (tube.length >= 1e4) r.fail(key + ".length", "is absurd (must be under 10000 mm)");
-      if (tube.offset >= 1e4) r.fail(key + ".offset", "is absurd (must be under 10000 mm)");
+      if (t.contains("depth")) tube.depth = r.number(t["depth"], key + ".depth");
+      if (const auto problem = tube_size_problem(tube)) r.fail(key + "." + problem->first, problem->second);
       c.tubes.push_back(tube);
     }
   }
@@ -154,12 +142,6 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
   return c;
 }
 
-CaseFile read_case(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InvalidInput(path + ": cannot open the case file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_case(text.str(), path);
-}
+CaseFile read_case(const std::string& path) { return parse_case(detail::read_text_file(path, "case file"), path); }
 
 } // namespace st

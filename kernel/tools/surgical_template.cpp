@@ -1,6 +1,9 @@
 // surgical-template: designs a surgical template from a case file (docs/CASE-FORMAT.md).
 //
 //   surgical-template design CASE.json [-o OUT.stl] [--report REPORT.json] [--simplify] [--tolerance MM]
+//                     [--plan PLAN] [--preset NAME] [--presets FILE]
+//   surgical-template plan PLAN [--bone MESH | --space LPS|RAS] [--preset NAME] [--presets FILE]
+//   surgical-template presets [--presets FILE]
 //   surgical-template union|difference|intersection A B -o OUT.stl
 //   surgical-template check MESH
 //
@@ -10,6 +13,7 @@
 #include "st/case_file.h"
 #include "st/errors.h"
 #include "st/mesh_io.h"
+#include "st/plan.h"
 #include "st/template_design.h"
 #include "st/validate.h"
 
@@ -22,6 +26,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <string>
 
 namespace {
@@ -34,6 +39,15 @@ constexpr const char* kUsage =
     "      --simplify: simplify the outer surface (about 5x fewer triangles, slower)\n"
     "      --tolerance: chordal tolerance of sleeves and bores in mm (default 0.01)\n"
     "      --operands DIR: also write the Boolean operands (body, columns, bores) there\n"
+    "      --plan PLAN: take the boundary and/or the drilling axes from a plan instead (3D Slicer markups\n"
+    "        .mrk.json, CSV of axes, or another case file), converted into the bone's frame\n"
+    "      --preset NAME: sleeve sizes for axes whose plan gives none (see `presets`)\n"
+    "      --presets FILE: a sleeve catalogue of your own (surgical-template-sleeves/1)\n"
+    "  surgical-template plan PLAN [--bone MESH | --space LPS|RAS] [--preset NAME] [--presets FILE]\n"
+    "      print a plan as case-file JSON (boundary, tubes) in the bone's frame (LPS unless the mesh\n"
+    "      header says SPACE=RAS), to check an import or paste into a case\n"
+    "  surgical-template presets [--presets FILE]\n"
+    "      list the sleeve catalogue\n"
     "  surgical-template union|difference|intersection A B -o OUT.stl\n"
     "      Boolean operation of two closed meshes (A minus B for difference)\n"
     "  surgical-template check MESH\n"
@@ -73,13 +87,116 @@ void write_text_atomically(const std::string& path, const std::string& text) {
   std::filesystem::rename(tmp, path);
 }
 
+/// The plan options shared by `design` and `plan`.
+struct PlanOptions {
+  std::vector<std::string> plans;
+  std::string preset, presets_file;
+
+  /// Takes the option at argv[i] (and its value) if it is one of ours.
+  bool parse(int argc, char** argv, int& i) {
+    const std::string a = argv[i];
+    if (i + 1 >= argc) return false;
+    if (a == "--plan") plans.push_back(argv[++i]);
+    else if (a == "--preset") preset = argv[++i];
+    else if (a == "--presets") presets_file = argv[++i];
+    else return false;
+    return true;
+  }
+
+  std::vector<st::SleevePreset> catalogue() const {
+    return presets_file.empty() ? st::default_sleeve_presets() : st::read_sleeve_presets(presets_file);
+  }
+
+  std::optional<st::SleevePreset> sizes() const {
+    if (preset.empty()) return std::nullopt;
+    return st::find_sleeve_preset(catalogue(), preset);
+  }
+};
+
+/// The plan's boundary and axes in place of the case's (those the plan gives).
+void apply_plan(st::CaseFile& c, const st::Plan& plan, const std::optional<st::SleevePreset>& sizes) {
+  for (const std::string& w : plan.warnings) std::cerr << "warning: " << w << "\n";
+  if (!plan.boundary_points.empty()) {
+    c.boundary_points = plan.boundary_points;
+    c.inside = plan.inside;
+  } else if (plan.inside) {
+    c.inside = plan.inside;
+  }
+  if (!plan.axes.empty()) {
+    c.tubes.clear();
+    for (const st::PlanAxis& axis : plan.axes) c.tubes.push_back(st::tube_from_axis(axis, sizes));
+  }
+}
+
+nlohmann::json point_json(const st::Vec3& p) { return {p.x(), p.y(), p.z()}; }
+
+int plan(int argc, char** argv) {
+  std::string plan_path, bone_path, space_name;
+  PlanOptions options;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (options.parse(argc, argv, i)) continue;
+    if (a == "--bone" && i + 1 < argc) bone_path = argv[++i];
+    else if (a == "--space" && i + 1 < argc) space_name = argv[++i];
+    else if (!a.empty() && a[0] != '-' && plan_path.empty()) plan_path = a;
+    else throw st::InvalidInput("unexpected argument '" + a + "'\n" + kUsage);
+  }
+  if (plan_path.empty()) throw st::InvalidInput(std::string("no plan file given\n") + kUsage);
+  st::Space space = st::Space::LPS;
+  if (!bone_path.empty()) space = st::mesh_file_space(bone_path);
+  if (space_name == "RAS") space = st::Space::RAS;
+  else if (!space_name.empty() && space_name != "LPS")
+    throw st::InvalidInput("--space: must be LPS or RAS, got '" + space_name + "'");
+  const st::Plan p = st::read_plan(plan_path, space);
+  const std::optional<st::SleevePreset> sizes = options.sizes();
+  nlohmann::json out;
+  if (!p.boundary_points.empty()) {
+    out["boundary"]["points"] = nlohmann::json::array();
+    for (const st::Vec3& q : p.boundary_points) out["boundary"]["points"].push_back(point_json(q));
+  }
+  if (p.inside) out["boundary"]["inside"] = point_json(*p.inside);
+  out["tubes"] = nlohmann::json::array();
+  for (const st::PlanAxis& axis : p.axes) {
+    nlohmann::json t = {{"name", axis.name}, {"entry", point_json(axis.entry)}, {"direction", point_json(axis.direction)}};
+    const auto size = [&](const char* key, const std::optional<double>& given, double preset) {
+      if (given) t[key] = *given;
+      else if (sizes) t[key] = preset;
+    };
+    size("inner_radius", axis.inner_radius, sizes ? sizes->inner_radius : 0.0);
+    size("outer_radius", axis.outer_radius, sizes ? sizes->outer_radius : 0.0);
+    size("length", axis.length, sizes ? sizes->length : 0.0);
+    size("offset", axis.offset, sizes ? sizes->offset : 0.0);
+    if (axis.depth) t["depth"] = *axis.depth;
+    if (sizes || (axis.inner_radius && axis.outer_radius && axis.length)) st::tube_from_axis(axis, sizes); // checks
+    out["tubes"].push_back(t);
+  }
+  out["space"] = space == st::Space::RAS ? "RAS" : "LPS";
+  for (const std::string& w : p.warnings) std::cerr << "warning: " << w << "\n";
+  std::printf("%s\n", out.dump(2).c_str());
+  return 0;
+}
+
+int presets(int argc, char** argv) {
+  PlanOptions options;
+  for (int i = 2; i < argc; ++i)
+    if (!options.parse(argc, argv, i)) throw st::InvalidInput(std::string("unexpected argument '") + argv[i] + "'\n" + kUsage);
+  std::printf("%-16s %8s %8s %8s %8s  %s\n", "name", "bore", "outer", "length", "offset", "description");
+  for (const st::SleevePreset& p : options.catalogue())
+    std::printf("%-16s %8.2f %8.2f %8.2f %8.2f  %s\n", p.name.c_str(), 2 * p.inner_radius, 2 * p.outer_radius, p.length,
+                p.offset, p.description.c_str());
+  std::printf("(diameters, lengths in mm)\n");
+  return 0;
+}
+
 int design(int argc, char** argv) {
   std::string case_path, out_path, report_path;
   bool simplify = false;
   double tolerance = 0.01;
   std::string operands_dir;
+  PlanOptions plan_options;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
+    if (plan_options.parse(argc, argv, i)) continue;
     if ((a == "-o" || a == "--output") && i + 1 < argc) out_path = argv[++i];
     else if (a == "--report" && i + 1 < argc) report_path = argv[++i];
     else if (a == "--simplify") simplify = true;
@@ -91,7 +208,7 @@ int design(int argc, char** argv) {
   if (case_path.empty()) throw st::InvalidInput(std::string("no case file given\n") + kUsage);
 
   const auto t_start = std::chrono::steady_clock::now();
-  const st::CaseFile c = st::read_case(case_path);
+  st::CaseFile c = st::read_case(case_path);
   for (const std::string& w : c.warnings) std::cerr << "warning: " << w << "\n";
   if (out_path.empty()) {
     if (!c.output) throw st::InvalidInput(case_path + ": no \"output\" in the case and no -o given");
@@ -102,6 +219,8 @@ int design(int argc, char** argv) {
   st::ReadReport read_report;
   const st::TriangleMesh bone = st::read_mesh(c.bone, &read_report);
   const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_read).count();
+  for (const std::string& plan_path : plan_options.plans)
+    apply_plan(c, st::read_plan(plan_path, st::mesh_space(read_report.header)), plan_options.sizes());
 
   st::TemplateOptions o = st::template_options(c);
   o.simplify_outer = simplify;
@@ -234,6 +353,8 @@ int main(int argc, char** argv) {
     const std::string command = argc > 1 ? argv[1] : "";
     if (command == "design") return design(argc, argv);
     if (command == "check") return check(argc, argv);
+    if (command == "plan") return plan(argc, argv);
+    if (command == "presets") return presets(argc, argv);
     if (command == "union") return boolean(argc, argv, st::BooleanOp::Union);
     if (command == "difference") return boolean(argc, argv, st::BooleanOp::Difference);
     if (command == "intersection") return boolean(argc, argv, st::BooleanOp::Intersection);

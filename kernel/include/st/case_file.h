@@ -6,6 +6,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace st {
@@ -18,7 +19,12 @@ struct TubeSpec {
   double outer_radius = 0.0;
   double length = 0.0;
   double offset = 0.0;
+  double depth = 0.0;  ///< planned drilling depth into the bone beyond the entry; 0: not planned
 };
+
+/// The first rule of the case format that the sizes of `t` break, as (key, reason) with the key
+/// relative to the tube ("outer_radius"), or nothing when they are fine.
+std::optional<std::pair<std::string, std::string>> tube_size_problem(const TubeSpec& t);
 
 struct CaseFile {
   std::string path;                   ///< the case file itself

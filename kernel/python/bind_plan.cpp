@@ -1,0 +1,126 @@
+#include "convert.h"
+
+#include "st/plan.h"
+
+#include <pybind11/stl.h>
+
+namespace py = pybind11;
+using namespace st;
+using namespace st::py_convert;
+
+namespace {
+
+Space to_space(const std::string& s) {
+  if (s == "LPS" || s == "lps") return Space::LPS;
+  if (s == "RAS" || s == "ras") return Space::RAS;
+  throw InvalidInput("space: must be \"LPS\" or \"RAS\", got \"" + s + "\"");
+}
+
+const char* space_name(Space s) { return s == Space::RAS ? "RAS" : "LPS"; }
+
+py::object optional_number(const std::optional<double>& v) {
+  return v ? py::object(py::float_(*v)) : py::object(py::none());
+}
+
+py::dict axis_dict(const PlanAxis& a) {
+  py::dict d;
+  d["name"] = a.name;
+  d["source"] = a.source;
+  d["entry"] = from_points({a.entry}).attr("reshape")(3);
+  d["direction"] = from_points({a.direction}).attr("reshape")(3);
+  d["depth"] = optional_number(a.depth);
+  d["inner_radius"] = optional_number(a.inner_radius);
+  d["outer_radius"] = optional_number(a.outer_radius);
+  d["length"] = optional_number(a.length);
+  d["offset"] = optional_number(a.offset);
+  return d;
+}
+
+PlanAxis to_axis(const py::dict& d) {
+  PlanAxis a;
+  const auto optional = [&](const char* key) -> std::optional<double> {
+    if (!d.contains(key) || d[key].is_none()) return std::nullopt;
+    return d[key].cast<double>();
+  };
+  a.name = d.contains("name") ? py::str(d["name"]).cast<std::string>() : "axis";
+  a.source = d.contains("source") ? py::str(d["source"]).cast<std::string>() : a.name;
+  a.entry = *to_optional_point(d["entry"], a.source + ": entry");
+  a.direction = *to_optional_point(d["direction"], a.source + ": direction");
+  const double n = a.direction.norm();
+  if (!(n > 0.0) || !std::isfinite(n)) throw InvalidInput(a.source + ": direction must be a non-zero vector");
+  a.direction /= n;
+  a.depth = optional("depth");
+  a.inner_radius = optional("inner_radius");
+  a.outer_radius = optional("outer_radius");
+  a.length = optional("length");
+  a.offset = optional("offset");
+  return a;
+}
+
+py::dict preset_dict(const SleevePreset& p) {
+  py::dict d;
+  d["name"] = p.name;
+  d["description"] = p.description;
+  d["inner_radius"] = p.inner_radius;
+  d["outer_radius"] = p.outer_radius;
+  d["length"] = p.length;
+  d["offset"] = p.offset;
+  return d;
+}
+
+SleevePreset to_preset(const py::dict& d) {
+  SleevePreset p;
+  p.name = d.contains("name") ? py::str(d["name"]).cast<std::string>() : "";
+  p.inner_radius = d["inner_radius"].cast<double>();
+  p.outer_radius = d["outer_radius"].cast<double>();
+  p.length = d["length"].cast<double>();
+  p.offset = d.contains("offset") ? d["offset"].cast<double>() : 0.0;
+  return p;
+}
+
+} // namespace
+
+void bind_plan(py::module_& m) {
+  m.def(
+      "read_plan",
+      [](const std::string& path, const std::string& space) {
+        const Plan plan = read_plan(path, to_space(space));
+        py::dict d;
+        d["path"] = plan.path;
+        d["boundary_points"] =
+            plan.boundary_points.empty() ? py::object(py::none()) : py::object(from_points(plan.boundary_points));
+        d["inside"] = plan.inside ? py::object(from_points({*plan.inside}).attr("reshape")(3)) : py::object(py::none());
+        py::list axes;
+        for (const PlanAxis& a : plan.axes) axes.append(axis_dict(a));
+        d["axes"] = axes;
+        d["warnings"] = plan.warnings;
+        return d;
+      },
+      py::arg("path"), py::arg("space") = "LPS",
+      "Reads a plan: a case file, a 3D Slicer markups file (.mrk.json) or a CSV of axes, in the frame `space` of "
+      "the bone it goes on (\"LPS\" or \"RAS\", see mesh_file_space). Returns {path, boundary_points (n, 3) or None, "
+      "inside, axes: [{name, source, entry, direction, depth, inner_radius, outer_radius, length, offset}] (sizes "
+      "None where the plan gives none), warnings}; raises ValueError naming the file and the entry.");
+  m.def(
+      "mesh_file_space", [](const std::string& path) { return space_name(mesh_file_space(path)); }, py::arg("path"),
+      "\"RAS\" when the mesh file's header says SPACE=RAS, else \"LPS\" (3D Slicer's convention).");
+  m.def(
+      "sleeve_presets",
+      [](const std::optional<std::string>& path) {
+        py::list out;
+        for (const SleevePreset& p : path ? read_sleeve_presets(*path) : default_sleeve_presets())
+          out.append(preset_dict(p));
+        return out;
+      },
+      py::arg("path") = py::none(),
+      "The sleeve catalogue (surgical-template-sleeves/1) of the file at `path`, or the one built in: "
+      "[{name, description, inner_radius, outer_radius, length, offset}] in mm.");
+  m.def(
+      "tube_from_axis",
+      [](const py::dict& axis, const std::optional<py::dict>& preset) {
+        return tube_dict(tube_from_axis(to_axis(axis), preset ? std::optional(to_preset(*preset)) : std::nullopt));
+      },
+      py::arg("axis"), py::arg("preset") = py::none(),
+      "A tube (case-file keys) from a plan axis, sizes the plan lacks taken from `preset`; ValueError naming the "
+      "axis when a size is missing or impossible.");
+}
