@@ -4,7 +4,7 @@ JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3
 DEMO_CASE ?= examples/cases/maxilla-implants.json
 
-.PHONY: all deps build install test test-main test-sanitize test-fuzz demo bench bench-references clean
+.PHONY: all deps build install test test-main test-sanitize test-fuzz demo examples bench bench-references clean
 
 all: build
 
@@ -50,6 +50,10 @@ demo: build
 	mkdir -p out
 	$(BUILD)/surgical-template design $(DEMO_CASE) -o out/demo-template.stl --report out/demo-report.json
 	$(BUILD)/surgical-template check out/demo-template.stl
+
+# The paper's four surgical cases (examples/cases) designed with the tool, summarised like its Table 1.
+examples: build
+	/usr/bin/python3 examples/table1.py --build $(BUILD) --out out/examples
 
 bench: build
 	/usr/bin/python3 bench/run_bench.py --build $(BUILD)

@@ -8,7 +8,7 @@ packages=(
   libeigen3-dev pybind11-dev nlohmann-json3-dev libgtest-dev
   python3-dev python3-numpy python3-pytest
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
-  freecad-python3 qtbase5-dev xvfb xauth
+  freecad-python3 qtbase5-dev xvfb xauth poppler-utils
   clang libclang-rt-14-dev
 )
 

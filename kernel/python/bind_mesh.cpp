@@ -42,12 +42,13 @@ void bind_mesh(py::module_& m) {
       "Reads an STL (binary or ASCII), PLY or OBJ file. Returns (vertices (n,3) float64, triangles (m,3) int32).");
   m.def(
       "write_stl",
-      [](const Points& v, const Faces& f, const std::string& path) {
+      [](const Points& v, const Faces& f, const std::string& path, const std::string& header) {
         const TriangleMesh mesh = to_mesh(v, f, "mesh");
         py::gil_scoped_release release;
-        write_stl(mesh, path);
+        write_stl(mesh, path, header);
       },
-      py::arg("vertices"), py::arg("triangles"), py::arg("path"), "Writes a binary STL (atomically).");
+      py::arg("vertices"), py::arg("triangles"), py::arg("path"), py::arg("header") = "surgical-template",
+      "Writes a binary STL (atomically) with `header` (up to 80 bytes; e.g. \"SPACE=RAS\" for 3D Slicer).");
   m.def(
       "check_solid",
       [](const Points& v, const Faces& f, bool self_intersections) {
