@@ -1,10 +1,13 @@
 #include "convert.h"
 
 #include "st/boolean.h"
+#include "st/inspect.h"
 
 namespace py = pybind11;
 using namespace st;
 using namespace st::py_convert;
+
+py::dict solid_dict(const SolidReport& r);
 
 void bind_boolean(py::module_& m) {
   m.def(
@@ -37,4 +40,41 @@ void bind_boolean(py::module_& m) {
       "minus B, 'intersection'). Returns a dict with 'mesh' (vertices, triangles; float32-exact), 'from_b' "
       "(per face), 'curve_segments', 'attempts' (> 1 when a touching contact needed a tiny displacement "
       "of B, of size 'perturbation' mm) and 'seconds'. Raises ValueError for an open or non-manifold operand.");
+  m.def(
+      "inspect_guide",
+      [](const Points& vg, const Faces& fg, const Points& vb, const Faces& fb, const py::object& tubes, double clearance,
+         double tolerance) {
+        const TriangleMesh guide = to_mesh(vg, fg, "guide");
+        const TriangleMesh bone = to_mesh(vb, fb, "bone");
+        const std::vector<TubeSpec> specs = to_tubes(tubes);
+        GuideInspection g;
+        {
+          py::gil_scoped_release release;
+          g = inspect_guide(guide, bone, specs, clearance, tolerance);
+        }
+        py::dict d;
+        d["solid"] = solid_dict(g.solid);
+        d["vertex_distance"] = py::array_t<double>(static_cast<py::ssize_t>(g.vertex_distance.size()),
+                                                   g.vertex_distance.data());
+        d["vertices_in_bone"] = g.vertices_in_bone;
+        d["deepest_in_bone"] = g.deepest_in_bone;
+        d["seated_vertices"] = g.seated_vertices;
+        py::list bores;
+        for (const BoreCheck& b : g.bores) {
+          py::dict bd;
+          bd["name"] = b.name;
+          bd["margin"] = b.margin;
+          bd["open"] = b.open;
+          bores.append(bd);
+        }
+        d["bores"] = bores;
+        d["passed"] = g.passed();
+        d["summary"] = g.summary();
+        return d;
+      },
+      py::arg("guide_vertices"), py::arg("guide_triangles"), py::arg("bone_vertices"), py::arg("bone_triangles"),
+      py::arg("tubes") = py::list(), py::arg("clearance") = 0.0, py::arg("tolerance") = 0.01,
+      "Inspects a finished guide on its bone: {solid, vertex_distance (per guide vertex, mm from the bone: the "
+      "thickness map), vertices_in_bone, deepest_in_bone, seated_vertices, bores: [{name, margin, open}], passed, "
+      "summary}.");
 }

@@ -8,6 +8,7 @@
 #include "st/case_file.h"
 #include "st/errors.h"
 #include "st/guide.h"
+#include "st/inspect.h"
 #include "st/mesh_io.h"
 #include "st/sleeve.h"
 #include "st/template_design.h"
@@ -21,31 +22,6 @@
 
 namespace st {
 namespace {
-
-double segment_segment_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1) {
-  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r), c = d1.dot(r), b = d1.dot(d2);
-  const double denom = a * e - b * b;
-  double s = denom > 1e-300 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-  double t = (b * s + f) / e;
-  if (t < 0.0) {
-    t = 0.0;
-    s = std::clamp(-c / a, 0.0, 1.0);
-  } else if (t > 1.0) {
-    t = 1.0;
-    s = std::clamp((b - c) / a, 0.0, 1.0);
-  }
-  return (p0 + s * d1 - (q0 + t * d2)).norm();
-}
-
-double segment_triangle_distance(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b, const Vec3& c) {
-  if (segment_intersects_triangle(p0, p1, a, b, c)) return 0.0;
-  double d = std::min((closest_point_on_triangle(p0, a, b, c) - p0).norm(),
-                      (closest_point_on_triangle(p1, a, b, c) - p1).norm());
-  d = std::min(d, segment_segment_distance(p0, p1, a, b));
-  d = std::min(d, segment_segment_distance(p0, p1, b, c));
-  return std::min(d, segment_segment_distance(p0, p1, c, a));
-}
 
 // Generalised winding number: 1 inside a closed outward mesh, 0 outside.
 double winding_number(const TriangleMesh& mesh, const Vec3& p) {
