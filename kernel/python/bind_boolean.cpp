@@ -76,5 +76,5 @@ void bind_boolean(py::module_& m) {
       py::arg("tubes") = py::list(), py::arg("clearance") = 0.0, py::arg("tolerance") = 0.01,
       "Inspects a finished guide on its bone: {solid, vertex_distance (per guide vertex, mm from the bone: the "
       "thickness map), vertices_in_bone, deepest_in_bone, seated_vertices, bores: [{name, margin, open}], passed, "
-      "summary}.");
+      "summary}; vertex_distance is negative behind the bone surface.");
 }

@@ -77,9 +77,9 @@ GuideInspection inspect_guide(const TriangleMesh& guide, const TriangleMesh& bon
     const Vec3& p = guide.positions[v];
     const auto c = bone_tree.closest_point(p);
     if (!c) continue;
-    r.vertex_distance[v] = c->distance;
     // Behind the bone surface: the closest face's normal points away from the vertex.
     const double depth = (p - c->point).dot(triangle_normal(bone, c->face)) < 0.0 ? c->distance : 0.0;
+    r.vertex_distance[v] = depth > 0.0 ? -depth : c->distance;
     if (depth > tolerance) {
       ++r.vertices_in_bone;
       r.deepest_in_bone = std::max(r.deepest_in_bone, depth);

@@ -69,6 +69,8 @@ TEST(Inspect, GuideInTheBoneAndBlockedBoresAreNamed) {
   EXPECT_GT(in_bone.vertices_in_bone, 100u);
   EXPECT_GT(in_bone.deepest_in_bone, 0.2);
   EXPECT_LT(in_bone.deepest_in_bone, 0.5 + 1e-4); // the guide is stored in float
+  EXPECT_NEAR(*std::min_element(in_bone.vertex_distance.begin(), in_bone.vertex_distance.end()),
+              -in_bone.deepest_in_bone, 1e-12);
   EXPECT_FALSE(in_bone.passed());
 }
 

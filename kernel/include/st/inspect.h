@@ -1,8 +1,8 @@
 #pragma once
-// Inspection of a finished guide against its bone and plan, for the workbench's Validate panel and
-// the command-line `inspect`: the solid check, every vertex's distance from the bone (the thickness
-// map: about `clearance` on the inner surface, `clearance + thickness` on the outer), whether the
-// guide seats (nothing inside the bone), and whether each bore is open along its axis.
+// Inspection of a finished guide against its bone and plan, for the workbench's Validate panel: the
+// solid check, every vertex's distance from the bone (the thickness map: about `clearance` on the
+// inner surface, `clearance + thickness` on the outer), whether the guide seats (nothing inside the
+// bone), and whether each bore is open along its axis.
 
 #include "st/case_file.h"
 #include "st/mesh.h"
@@ -24,7 +24,8 @@ struct BoreCheck {
 
 struct GuideInspection {
   SolidReport solid;
-  std::vector<double> vertex_distance;  ///< per guide vertex: distance from the bone surface (mm)
+  /// Per guide vertex: signed distance from the bone surface (mm), negative behind it (in the bone).
+  std::vector<double> vertex_distance;
   std::size_t vertices_in_bone = 0;     ///< vertices behind the bone surface by more than the tolerance
   double deepest_in_bone = 0.0;         ///< mm
   std::size_t seated_vertices = 0;      ///< vertices within the tolerance of `clearance` from the bone
