@@ -1,35 +1,17 @@
 """The workbench in a real FreeCAD window under Xvfb: activated, a case opened by its command, a
 boundary drawn by clicks on the bone and its template made by the commands; the screenshots (kept in
 the build's test-output folder) must show the guide in its blue."""
-import json
 import os
-import shutil
-import subprocess
 
 import pytest
 
-from test_workbench import ROOT, install_workbench
+from fc_session import ROOT, run_gui
 
 
 @pytest.fixture(scope="module")
 def session(tmp_path_factory):
-    if not shutil.which("freecad") or not shutil.which("xvfb-run"):
-        pytest.skip("FreeCAD GUI or Xvfb missing")
-    home = tmp_path_factory.mktemp("fcgui")
-    install_workbench(str(home))
-    out = os.path.join(os.environ.get("ST_TEST_OUTPUT_DIR", str(tmp_path_factory.mktemp("out"))), "gui")
-    os.makedirs(out, exist_ok=True)
-    env = dict(os.environ, FREECAD_USER_HOME=str(home), FREECAD_USER_DATA=str(home), ST_OUT=out,
-               QTWEBENGINE_DISABLE_SANDBOX="1",
-               ST_CASE=os.path.join(ROOT, "examples", "cases", "sacrum-iliosacral.json"))
-    p = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "freecad",
-                        os.path.join(ROOT, "tests", "freecad", "gui_session.py")],
-                       capture_output=True, text=True, env=env, timeout=600)
-    path = os.path.join(out, "gui-result.json")
-    assert os.path.exists(path), p.stdout[-3000:] + p.stderr[-3000:]
-    result = json.load(open(path))
-    assert not result["errors"], result["errors"]
-    return result
+    return run_gui(tmp_path_factory, "gui_session.py", "gui-result.json",
+                   ST_CASE=os.path.join(ROOT, "examples", "cases", "sacrum-iliosacral.json"))
 
 
 def test_workbench_and_commands(session):
@@ -62,3 +44,37 @@ def test_tube_added_by_a_click_and_guide_created_by_the_commands(session):
     assert g["tubes"] == 1 and g["guides"] == 1
     assert "Invalid" not in g["state"] and "no self-intersection" in g["status"]
     assert session["template_hidden_by_guide"]
+
+
+def test_boundary_edited_in_its_panel_by_drag_click_and_delete_key(session):
+    e = session["edit"]
+    assert e["opened_by_double_click"] and e["in_edit"] and e["overlay_shown"]
+    n = e["panel_points"]
+    assert n == len(e["before"]) and e["nearest_checked"]
+    # Dragged: the same count, the point moved onto the bone where the target's view ray meets it.
+    d = e["drag"]
+    assert e["dragging_started"]
+    assert d["count"] == n and d["others_kept"]
+    assert d["moved_by"] > 1.0 and d["off_target"] < 0.5
+    # Clicked near a segment: one point more, between that segment's two points.
+    i = e["insert"]
+    assert i["count"] == n + 1 and i["new"] == [i["segment"] + 1]
+    assert i["previous_is_segment_start"] and i["next_is_segment_end"] and i["off_click"] < 0.5
+    # Delete key in the list: the point goes, FreeCAD's Delete command does not run (the bone stays).
+    assert e["delete_key_claimed"] and e["bone_still_there"]
+    assert e["delete"]["count"] == n and e["delete"]["removed"]
+    # The markers (one selected) and the curve are in the screenshot.
+    assert e["marker_pixels"] > 50 and e["selected_pixels"] > 20 and e["curve_pixels"] > 200
+    # OK: exactly the edited points, the boundary recomputed, one undo step, nothing left over.
+    a = e["after"]
+    assert e["ok_button"] and a["as_edited"] and a["count"] == n
+    assert a["length"] > 50.0 and a["valid"] and "Invalid" not in a["state"]
+    assert a["undo_steps"] == 1 and a["undo_name"] == "Edit boundary"
+    assert not a["dialog_open"] and not a["in_edit"] and not a["overlay_left"] and not a["preview_objects"]
+    # Undo restores the points drawn before.
+    u = e["undone"]
+    assert u["as_before"] and u["length"] > 50.0 and u["valid"] and "Invalid" not in u["state"]
+    # Cancel leaves the boundary and the undo history alone.
+    c = e["cancelled"]
+    assert c["unchanged"] and c["undo_steps"] == 0
+    assert not c["dialog_open"] and not c["in_edit"] and not c["overlay_left"]

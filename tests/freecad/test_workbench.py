@@ -1,43 +1,16 @@
 """The workbench's API headless in FreeCAD: a guide built from a case file, changed parametrically,
 undone and redone, failing and repaired, saved and restored, and written back as a case file."""
-import json
 import os
-import shutil
-import subprocess
 
 import pytest
 
-FREECAD_LIB = "/usr/lib/freecad-python3/lib"
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-
-
-def install_workbench(user_data):
-    """The workbench and the kernel module in a private FreeCAD user folder, as `make install` does."""
-    target = os.path.join(user_data, "Mod", "SurgicalTemplate")
-    shutil.copytree(os.path.join(ROOT, "workbench", "SurgicalTemplate"), target)  # .py, .ui, package.xml
-    shutil.copytree(os.path.join(ROOT, "icons"), os.path.join(target, "icons"), dirs_exist_ok=True)
-    python_dir = os.environ.get("ST_PYTHON_DIR", os.path.join(os.getcwd(), "python"))
-    for f in os.listdir(python_dir):
-        if f.startswith("stkernel") and f.endswith(".so"):
-            shutil.copy(os.path.join(python_dir, f), target)
-    return target
+from fc_session import FREECAD_LIB, ROOT, install_workbench, run_headless  # noqa: F401 (used by other suites)
 
 
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
-    if not os.path.exists(FREECAD_LIB):
-        pytest.skip("FreeCAD is not installed")
-    home = tmp_path_factory.mktemp("fc")
-    install_workbench(str(home))
-    out = tmp_path_factory.mktemp("out")
-    env = dict(os.environ, FREECAD_USER_HOME=str(home), FREECAD_USER_DATA=str(home), ST_OUT=str(out),
-               ST_CASE=os.path.join(ROOT, "examples", "cases", "sacrum-iliosacral.json"))
-    p = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "tests", "freecad", "workbench_headless.py")],
-                       capture_output=True, text=True, env=env, timeout=600)
-    assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
-    line = [l for l in p.stdout.splitlines() if l.startswith("RESULT ")]
-    assert line, p.stdout[-3000:] + p.stderr[-3000:]
-    return json.loads(line[0][len("RESULT "):])
+    return run_headless(tmp_path_factory, "workbench_headless.py",
+                        ST_CASE=os.path.join(ROOT, "examples", "cases", "sacrum-iliosacral.json"))
 
 
 def valid(r):

@@ -36,11 +36,20 @@ class _Feature:
         return None
 
     @staticmethod
+    def drop_thickness_map(obj):
+        """A new mesh makes the colours of the last inspection meaningless (SurgicalTemplate.inspect)."""
+        if "ThicknessMap" in obj.PropertiesList and len(obj.ThicknessMap):
+            obj.ThicknessMap = []
+            if App.GuiUp:
+                obj.ViewObject.Coloring = False
+
+    @staticmethod
     def add(obj, kind, name, group, doc, value=None, hidden=False, readonly=False):
+        """Adds a property with its default; one that exists already keeps its value."""
         if name not in obj.PropertiesList:
             obj.addProperty(kind, name, group, doc)
-        if value is not None:
-            setattr(obj, name, value)
+            if value is not None:
+                setattr(obj, name, value)
         mode = (1 if readonly else 0) | (2 if hidden else 0)
         if mode:
             obj.setEditorMode(name, mode)
@@ -58,13 +67,19 @@ class Boundary(_Feature):
         self.add(obj, "App::PropertyBool", "UseInside", "Boundary",
                  "Keep the side holding Inside; otherwise the smaller side", False)
 
+    @staticmethod
+    def curve(bone, points):
+        """The closed curve on the bone's surface through the control points, as points (the last
+        joins the first); the boundary panel previews exactly this."""
+        V, F = st_bridge.bone_arrays(bone)
+        curve = st_bridge.kernel().trace_surface_curve(V, F, [st_bridge.vec(p) for p in points])
+        return [App.Vector(*map(float, p)) for p in curve]
+
     def execute(self, obj):
         if obj.Bone is None or len(obj.Points) < 3:
             obj.Shape = Part.Shape()
             return
-        V, F = st_bridge.bone_arrays(obj.Bone)
-        curve = st_bridge.kernel().trace_surface_curve(V, F, [st_bridge.vec(p) for p in obj.Points])
-        pts = [App.Vector(*map(float, p)) for p in curve]
+        pts = self.curve(obj.Bone, obj.Points)
         obj.Shape = Part.makePolygon(pts + [pts[0]])
 
 
@@ -97,6 +112,7 @@ class Template(_Feature):
                               inside=st_bridge.vec(b.Inside) if b.UseInside else None)
         obj.Mesh = st_bridge.arrays_to_mesh(*r["shell"])
         obj.InnerFaces = int(r["inner_faces"])
+        self.drop_thickness_map(obj)
         obj.Status = f"{r['solid']['summary']}; {r['times']['total']:.3f} s"
 
 
@@ -113,11 +129,25 @@ class Tube(_Feature):
         self.add(obj, "App::PropertyLength", "Length", "Tube", "Sleeve length along the axis", 5.0)
         self.add(obj, "App::PropertyLength", "Offset", "Tube",
                  "Distance from the entry back along the axis to the sleeve's lower end", 0.0)
+        self.properties_since_0_2(obj)
+
+    def properties_since_0_2(self, obj):
+        """Properties that documents saved by the first version lack (added on restore)."""
+        self.add(obj, "App::PropertyLength", "Depth", "Plan",
+                 "Planned drilling depth into the bone beyond the entry (drill protocol); 0: not planned", 0.0)
+        self.add(obj, "App::PropertyString", "Preset", "Plan", "The sleeve preset the sizes came from", "")
+
+    def onDocumentRestored(self, obj):
+        self.properties_since_0_2(obj)
 
     def spec(self, obj):
-        return {"name": obj.Label, "entry": st_bridge.vec(obj.Entry), "direction": st_bridge.vec(obj.Direction),
-                "inner_radius": float(obj.InnerRadius.Value), "outer_radius": float(obj.OuterRadius.Value),
-                "length": float(obj.Length.Value), "offset": float(obj.Offset.Value)}
+        s = {"name": obj.Label, "entry": st_bridge.vec(obj.Entry), "direction": st_bridge.vec(obj.Direction),
+             "inner_radius": float(obj.InnerRadius.Value), "outer_radius": float(obj.OuterRadius.Value),
+             "length": float(obj.Length.Value), "offset": float(obj.Offset.Value)}
+        depth = float(obj.Depth.Value) if hasattr(obj, "Depth") else 0.0
+        if depth > 0:
+            s["depth"] = depth
+        return s
 
     def execute(self, obj):
         s = self.spec(obj)
@@ -168,6 +198,7 @@ class Guide(_Feature):
         if not report["valid"]:
             raise RuntimeError(f"{obj.Label}: the guide failed its check: {report['summary']}")
         obj.Mesh = st_bridge.arrays_to_mesh(V, F)
+        self.drop_thickness_map(obj)
         obj.Status = f"{report['summary']}; tubes {seconds:.3f} s"
 
 
@@ -194,6 +225,33 @@ class ViewProvider:
         if hasattr(o, "Tubes"):
             kids += list(o.Tubes)
         return kids
+
+    # Edit mode. A boundary's editor is the boundary panel on its points (st_commands.edit_boundary);
+    # a double-click in the tree enters edit mode 0 (FreeCAD's default for Part features, so there is no
+    # doubleClicked here: in 0.20 any doubleClicked, even one returning None, replaces the default for all
+    # kinds). For other kinds these return None, which leaves FreeCAD's default behaviour.
+    def _editable(self):
+        return getattr(getattr(getattr(self, "Object", None), "Proxy", None), "kind", "") == "Boundary"
+
+    def setEdit(self, vobj, mode=0):
+        if mode != 0 or not self._editable():
+            return None
+        import st_commands
+        return st_commands.edit_boundary(vobj.Object)
+
+    def unsetEdit(self, vobj, mode=0):
+        if mode != 0 or not self._editable():
+            return None
+        import st_commands
+        st_commands.BoundaryPanel.edit_ended(vobj.Object)
+        return True
+
+    def setupContextMenu(self, vobj, menu):
+        if self._editable():
+            import FreeCADGui
+            action = menu.addAction("Edit boundary points")
+            action.triggered.connect(
+                lambda: FreeCADGui.getDocument(vobj.Object.Document.Name).setEdit(vobj.Object.Name, 0))
 
     def __getstate__(self):
         return {"icon": self.icon}

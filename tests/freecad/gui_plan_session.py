@@ -1,0 +1,138 @@
+"""Runs in a real FreeCAD window (under Xvfb in tests): a 3D Slicer plan imported by the Import plan
+command onto a bare bone, the guide validated in the Validate panel with its thickness map on screen,
+and tubes added in the tube panel from a sleeve preset with the direction from a second clicked
+point and from the view. Writes $ST_OUT/gui-plan-result.json; test_gui_plan.py asserts on it."""
+import json
+import os
+import traceback
+
+import FreeCAD as App
+import FreeCADGui as Gui
+from PySide import QtCore, QtGui
+
+out, examples = os.environ["ST_OUT"], os.environ["ST_EXAMPLES_DIR"]
+result = {"errors": []}
+
+
+def colour_fractions(path):
+    """Fractions of the image's pixels that are the thickness map's green (seated) and red (in bone)."""
+    image = QtGui.QImage(path)
+    green = red = total = 0
+    for y in range(0, image.height(), 3):
+        for x in range(0, image.width(), 3):
+            c = QtGui.QColor(image.pixel(x, y))
+            total += 1
+            green += c.green() > c.red() + 40 and c.green() > c.blue() + 40
+            red += c.red() > c.green() + 80 and c.red() > c.blue() + 80
+    return green / max(total, 1), red / max(total, 1)
+
+
+def kind(o):
+    return getattr(getattr(o, "Proxy", None), "kind", "")
+
+
+def work():
+    try:
+        Gui.activateWorkbench("SurgicalTemplateWorkbench")
+        import st_commands
+        import SurgicalTemplate
+        result["commands"] = [c for c in Gui.listCommands() if c.startswith("SurgicalTemplate_")]
+        case = SurgicalTemplate.st_bridge.kernel().read_case(os.path.join(examples, "cases", "vertebra-pedicle.json"))
+        doc = App.newDocument("SlicerPlan")
+        bone = SurgicalTemplate.make_bone(case["bone"], doc)
+        doc.recompute()
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(bone)
+        # Import plan: the command's code path after its file dialog; the preset chooser answers.
+        asked = []
+        ok = st_commands.import_plan(os.path.join(examples, "plans", "vertebra-plan.mrk.json"), bone,
+                                     lambda axes: asked.append([a["name"] for a in axes]) or "drill-2.5")
+        guides = [o for o in doc.Objects if kind(o) == "Guide"]
+        result["import"] = {"ok": ok, "asked": asked, "guides": len(guides),
+                            "tubes": [t.Label for t in guides[0].Tubes] if guides else [],
+                            "presets": [t.Preset for t in guides[0].Tubes] if guides else [],
+                            "state": list(guides[0].State) if guides else []}
+        guide = guides[0]
+        # Validate: the panel's inspection and the thickness map on the guide.
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(guide)
+        Gui.runCommand("SurgicalTemplate_Validate")
+        panel = st_commands.ValidatePanel.last
+        r = panel.result
+        result["validate"] = {"error": panel.error, "passed": r["passed"], "summary": r["summary"],
+                              "bores": r["bores"], "in_bone": r["vertices_in_bone"],
+                              "colours": len(guide.ThicknessMap), "facets": guide.Mesh.CountFacets,
+                              "coloring": guide.ViewObject.Coloring}
+        # Look at the inner surface from inside the bone: the seat is green.
+        bone.ViewObject.Visibility = False
+        view = Gui.ActiveDocument.ActiveView
+        d = case["tubes"][0]["direction"]
+        view.setViewDirection((-d[0], -d[1], -d[2]))
+        view.fitAll()
+        Gui.updateGui()
+        path = os.path.join(out, "gui-thickness-map.png")
+        view.saveImage(path, 800, 600, "White")
+        result["map_shot"] = {"path": path, "green_red": colour_fractions(path)}
+        panel.show_map.setChecked(False)
+        result["coloring_off"] = guide.ViewObject.Coloring
+        panel.reject()
+        # The map goes when the guide is recomputed (it no longer matches the mesh).
+        guide.Tubes[0].Length = guide.Tubes[0].Length.Value + 1.0
+        doc.recompute()
+        result["map_after_recompute"] = len(guide.ThicknessMap)
+
+        # Tube panel: preset, direction from a second clicked point, then from the view.
+        bone.ViewObject.Visibility = True
+        guide.ViewObject.Visibility = False
+        view.setViewDirection((0.0, 0.0, -1.0))  # from above (+z): the vertebra's top, where the points lie
+        view.fitAll()
+        Gui.updateGui()
+        tubes_before = len(guide.Tubes)
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(guide)
+        Gui.runCommand("SurgicalTemplate_AddTube")
+        tp = st_commands.TubePanel.last
+        names = [p["name"] for p in tp.presets]
+        tp.preset.setCurrentIndex(names.index("kwire-2.0") + 1)
+        tp.mode.setCurrentIndex(2)
+        clicks = []
+        for p in (case["tubes"][0]["entry"], case["boundary_points"][0]):
+            pos = view.getPointOnScreen(App.Vector(*map(float, p)))
+            pos = (int(pos[0]), int(pos[1]))
+            hit = view.getObjectInfo(pos)
+            clicks.append([hit["x"], hit["y"], hit["z"]] if hit and hit.get("Object") == bone.Name else None)
+            tp.click(pos)
+        tp.accept()
+        new = [t for t in guide.Tubes][tubes_before:]
+        result["second_point"] = {"clicks": clicks, "tubes": len(new),
+                                  "direction": list(new[0].Direction) if new else None,
+                                  "depth": new[0].Depth.Value if new else None,
+                                  "sizes": [new[0].InnerRadius.Value, new[0].OuterRadius.Value, new[0].Length.Value,
+                                            new[0].Offset.Value] if new else None,
+                                  "preset": new[0].Preset if new else None,
+                                  "kwire": [p for p in tp.presets if p["name"] == "kwire-2.0"][0]}
+        Gui.runCommand("SurgicalTemplate_AddTube")
+        tp = st_commands.TubePanel.last
+        tp.mode.setCurrentIndex(1)
+        pos = view.getPointOnScreen(App.Vector(*map(float, case["tubes"][1]["entry"])))
+        result["view_click"] = tp.click((int(pos[0]), int(pos[1])))
+        tp.accept()
+        result["view_direction"] = {"tube": list(guide.Tubes[-1].Direction), "view": list(view.getViewDirection())}
+        doc.recompute()
+        # Sleeves on such ad-hoc axes may run into the bone: the guide then says so and keeps its last
+        # good mesh; without them it is whole again.
+        result["with_new_tubes"] = list(guide.State)
+        guide.Tubes = guide.Tubes[:tubes_before]
+        doc.recompute()
+        result["final_state"] = list(guide.State)
+    except Exception:
+        result["errors"].append(traceback.format_exc())
+    finally:
+        with open(os.path.join(out, "gui-plan-result.json"), "w") as f:
+            json.dump(result, f, indent=1)
+        for name in list(App.listDocuments()):
+            App.closeDocument(name)
+        QtCore.QTimer.singleShot(0, Gui.getMainWindow().close)
+
+
+QtCore.QTimer.singleShot(500, work)

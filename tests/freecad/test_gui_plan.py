@@ -1,0 +1,52 @@
+"""Plans, validation and the tube panel in a real FreeCAD window under Xvfb: a 3D Slicer plan imported by
+the Import plan command onto a bare bone (the sleeve preset asked for), the Validate panel's
+inspection and thickness map (its screenshot shows the green seat), tubes from a preset with the
+direction from a second clicked point and from the view."""
+import math
+
+import pytest
+
+from fc_session import run_gui
+
+
+@pytest.fixture(scope="module")
+def session(tmp_path_factory):
+    return run_gui(tmp_path_factory, "gui_plan_session.py", "gui-plan-result.json")
+
+
+def test_import_plan_command_builds_the_guide_asking_for_the_preset(session):
+    assert "SurgicalTemplate_ImportPlan" in session["commands"]
+    r = session["import"]
+    assert r["ok"] and r["asked"] == [["left", "right"]]
+    assert r["guides"] == 1 and r["tubes"] == ["left", "right"] and r["presets"] == ["drill-2.5", "drill-2.5"]
+    assert "Invalid" not in r["state"]
+
+
+def test_validate_panel_inspects_and_colours_the_guide(session):
+    v = session["validate"]
+    assert v["error"] is None and v["passed"], v["summary"]
+    assert [b["open"] for b in v["bores"]] == [True, True] and v["in_bone"] == 0
+    assert v["colours"] == v["facets"] and v["coloring"]
+    green, red = session["map_shot"]["green_red"]
+    assert green > 0.005 and red < 0.001  # the seat seen from the bone's side; nothing in the bone
+    assert session["coloring_off"] is False
+    assert session["map_after_recompute"] == 0
+
+
+def test_tube_from_a_preset_and_a_second_point(session):
+    r = session["second_point"]
+    a, b = r["clicks"]
+    assert a and b and r["tubes"] == 1
+    along = [q - p for p, q in zip(a, b)]
+    length = math.sqrt(sum(x * x for x in along))
+    assert r["direction"] == pytest.approx([x / length for x in along], abs=1e-4)
+    assert r["depth"] == pytest.approx(length, abs=1e-3)
+    k = r["kwire"]
+    assert r["sizes"] == pytest.approx([k["inner_radius"], k["outer_radius"], k["length"], k["offset"]])
+    assert r["preset"] == "kwire-2.0"
+
+
+def test_tube_along_the_view(session):
+    assert session["view_click"]
+    assert session["view_direction"]["tube"] == pytest.approx(session["view_direction"]["view"], abs=1e-4)
+    assert "Invalid" not in session["final_state"]  # the guide recomputes whole without the ad-hoc tubes
