@@ -1,7 +1,9 @@
-"""Runs in a real FreeCAD window (under Xvfb in tests): a 3D Slicer plan imported by the Import plan
-command onto a bare bone, the guide validated in the Validate panel with its thickness map on screen,
-and tubes added in the tube panel from a sleeve preset with the direction from a second clicked
-point and from the view. Writes $ST_OUT/gui-plan-result.json; test_gui_plan.py asserts on it."""
+"""Runs in a real FreeCAD window (under Xvfb in tests): a bone imported and a 3D Slicer plan put on it by
+the commands, the guide validated in the Validate panel with its thickness map on screen, tubes added
+in the tube panel from a sleeve preset with the direction from a second clicked point and from the
+view; then the script FreeCAD recorded for all that (the lines its macro recorder writes, echoed in
+the Python console) is replayed into fresh documents and must give the same tree.
+Writes $ST_OUT/gui-plan-result.json; test_gui_plan.py asserts on it."""
 import json
 import os
 import traceback
@@ -31,6 +33,32 @@ def kind(o):
     return getattr(getattr(o, "Proxy", None), "kind", "")
 
 
+def console():
+    return [w for w in Gui.getMainWindow().findChildren(QtGui.QPlainTextEdit) if w.objectName() == "Python console"][0]
+
+
+def recorded_lines(text):
+    """The commands in the console's text, as the macro recorder writes them (comments dropped)."""
+    lines = []
+    for line in text.splitlines():
+        if line.startswith(">>> ") or line.startswith("... "):
+            code = line[4:]
+            if code.strip() and not code.lstrip().startswith("#"):
+                lines.append(code)
+    return lines
+
+
+def snapshot(doc):
+    """What the replay must reproduce: the tree's objects and the guide's result."""
+    guides = [o for o in doc.Objects if kind(o) == "Guide"]
+    g = guides[0]
+    return {"objects": sorted(o.Label for o in doc.Objects),
+            "tubes": [[t.Label, list(t.Entry), list(t.Direction), t.Depth.Value, t.InnerRadius.Value, t.Preset]
+                      for t in g.Tubes],
+            "points": [list(p) for p in g.Shell.Boundary.Points],
+            "state": list(g.State), "facets": g.Mesh.CountFacets, "volume": g.Mesh.Volume}
+
+
 def work():
     try:
         Gui.activateWorkbench("SurgicalTemplateWorkbench")
@@ -38,9 +66,14 @@ def work():
         import SurgicalTemplate
         result["commands"] = [c for c in Gui.listCommands() if c.startswith("SurgicalTemplate_")]
         case = SurgicalTemplate.st_bridge.kernel().read_case(os.path.join(examples, "cases", "vertebra-pedicle.json"))
-        doc = App.newDocument("SlicerPlan")
-        bone = SurgicalTemplate.make_bone(case["bone"], doc)
-        doc.recompute()
+        # Everything from here to the replay goes through the commands: FreeCAD records it.
+        App.ParamGet("User parameter:BaseApp/Preferences/Macro").SetBool("ScriptToPyConsole", True)
+        before = console().toPlainText()
+        start = before.rfind("\n") + 1  # the prompt the first recorded command is written after
+        st_commands.import_bone(case["bone"])  # Import bone after its file dialog
+        doc = App.ActiveDocument
+        doc_name = doc.Name
+        bone = doc.Objects[0]
         Gui.Selection.clearSelection()
         Gui.Selection.addSelection(bone)
         # Import plan: the command's code path after its file dialog; the preset chooser answers.
@@ -76,10 +109,6 @@ def work():
         panel.show_map.setChecked(False)
         result["coloring_off"] = guide.ViewObject.Coloring
         panel.reject()
-        # The map goes when the guide is recomputed (it no longer matches the mesh).
-        guide.Tubes[0].Length = guide.Tubes[0].Length.Value + 1.0
-        doc.recompute()
-        result["map_after_recompute"] = len(guide.ThicknessMap)
 
         # Tube panel: preset, direction from a second clicked point, then from the view.
         bone.ViewObject.Visibility = True
@@ -119,12 +148,33 @@ def work():
         tp.accept()
         result["view_direction"] = {"tube": list(guide.Tubes[-1].Direction), "view": list(view.getViewDirection())}
         doc.recompute()
+        recorded = snapshot(doc)
+        macro = recorded_lines(console().toPlainText()[start:])
+        with open(os.path.join(out, "recorded-macro.FCMacro"), "w") as f:
+            f.write("# Recorded by FreeCAD during the GUI test (tests/freecad/gui_plan_session.py)\n")
+            f.write("\n".join(macro) + "\n")
+        result["macro"] = macro
         # Sleeves on such ad-hoc axes may run into the bone: the guide then says so and keeps its last
         # good mesh; without them it is whole again.
         result["with_new_tubes"] = list(guide.State)
         guide.Tubes = guide.Tubes[:tubes_before]
         doc.recompute()
         result["final_state"] = list(guide.State)
+        # The map goes when the guide is recomputed (it no longer matches the mesh).
+        guide.ViewObject.Coloring = True
+        guide.ThicknessMap = [(0.5, 0.5, 0.5)] * guide.Mesh.CountFacets
+        guide.Tubes[0].Length = guide.Tubes[0].Length.Value + 1.0
+        doc.recompute()
+        result["map_after_recompute"] = len(guide.ThicknessMap)
+
+        # The replay: every document closed, the recorded lines run as a macro runs them.
+        for name in list(App.listDocuments()):
+            App.closeDocument(name)
+        Gui.updateGui()
+        namespace = {"App": App, "FreeCAD": App, "Gui": Gui, "FreeCADGui": Gui}
+        exec(compile("\n".join(macro), "recorded-macro.FCMacro", "exec"), namespace)
+        replayed = App.getDocument(doc_name)
+        result["recorded"], result["replayed"] = recorded, snapshot(replayed)
     except Exception:
         result["errors"].append(traceback.format_exc())
     finally:

@@ -1,7 +1,8 @@
 """Plans, validation and the tube panel in a real FreeCAD window under Xvfb: a 3D Slicer plan imported by
 the Import plan command onto a bare bone (the sleeve preset asked for), the Validate panel's
 inspection and thickness map (its screenshot shows the green seat), tubes from a preset with the
-direction from a second clicked point and from the view."""
+direction from a second clicked point and from the view; the script FreeCAD recorded replays to the
+same tree."""
 import math
 
 import pytest
@@ -50,3 +51,18 @@ def test_tube_along_the_view(session):
     assert session["view_click"]
     assert session["view_direction"]["tube"] == pytest.approx(session["view_direction"]["view"], abs=1e-4)
     assert "Invalid" not in session["final_state"]  # the guide recomputes whole without the ad-hoc tubes
+
+
+def test_recorded_macro_replays_to_the_same_tree(session):
+    macro = "\n".join(session["macro"])
+    assert "SurgicalTemplate.make_bone(" in macro and "SurgicalTemplate.load_plan(" in macro
+    assert macro.count("SurgicalTemplate.make_tube(") == 2
+    a, b = session["recorded"], session["replayed"]
+    assert b["objects"] == a["objects"]
+    assert b["points"] == a["points"]
+    assert len(b["tubes"]) == len(a["tubes"]) == 4
+    for ta, tb in zip(a["tubes"], b["tubes"]):
+        assert tb[0] == ta[0] and tb[5] == ta[5]
+        assert tb[1] + tb[2] + tb[3:5] == pytest.approx(ta[1] + ta[2] + ta[3:5], abs=1e-3)  # recorded to 4-5 decimals
+    assert b["state"] == a["state"] and b["facets"] == a["facets"]
+    assert b["volume"] == pytest.approx(a["volume"], rel=1e-9)

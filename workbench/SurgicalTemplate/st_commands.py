@@ -28,7 +28,9 @@ def preference(name, default):
 
 def run(title, code):
     """Runs recorded code with a wait cursor; True when it worked."""
-    Gui.addModule("SurgicalTemplate")
+    # Always recorded (Gui.addModule writes the import only once per session, so a macro recorded
+    # later would lack it).
+    code = "import SurgicalTemplate\n" + code
     QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
     progress = App.Base.ProgressIndicator()  # FreeCAD's busy indicator in the status bar
     progress.start(f"Surgical Template: {title}...", 0)
@@ -82,10 +84,16 @@ class ImportBone(_Command):
         path, _ = QtGui.QFileDialog.getOpenFileName(Gui.getMainWindow(), "Import bone", "",
                                                     "Meshes (*.stl *.STL *.ply *.obj *.gz);;All files (*)")
         if path:
-            if App.ActiveDocument is None:
-                App.newDocument("SurgicalTemplate")
-            run("Import bone", f"SurgicalTemplate.make_bone({path!r})\nApp.ActiveDocument.recompute()")
-            Gui.SendMsgToActiveView("ViewFit")
+            import_bone(path)
+
+
+def import_bone(path):
+    """The command after its file dialog: the bone into the active document (a new one if none)."""
+    code = "App.newDocument('SurgicalTemplate')\n" if App.ActiveDocument is None else ""
+    ok = run("Import bone", code + f"SurgicalTemplate.make_bone({path!r})\nApp.ActiveDocument.recompute()")
+    if ok:
+        Gui.SendMsgToActiveView("ViewFit")
+    return ok
 
 
 class OpenCase(_Command):
