@@ -46,10 +46,17 @@ test-fuzz: deps
 	cmake --build build-fuzz -j$(JOBS) --target fuzz_stl fuzz_ply fuzz_obj fuzz_gz fuzz_case fuzz_plan
 	ctest --test-dir build-fuzz -j$(JOBS) --output-on-failure -R fuzz_
 
+# The demo: the tool designs the case; then the workbench (installed in a private FreeCAD user folder
+# under out/, so your own FreeCAD is untouched) builds its parametric document and documentation:
+# out/demo/<case>.stl, .FCStd, -drawing.pdf/.svg/.txt (the drawing runs FreeCAD's GUI under Xvfb).
+DEMO_USER = $(CURDIR)/out/freecad-user
 demo: build
 	mkdir -p out
 	$(BUILD)/surgical-template design $(DEMO_CASE) -o out/demo-template.stl --report out/demo-report.json
 	$(BUILD)/surgical-template check out/demo-template.stl
+	$(MAKE) --no-print-directory install FREECAD_MOD=$(DEMO_USER)/Mod
+	FREECAD_USER_DATA=$(DEMO_USER) FREECAD_USER_HOME=$(DEMO_USER) ST_CASE=$(DEMO_CASE) ST_OUT=out/demo \
+	  /usr/bin/python3 examples/macros/make_guide.py
 
 # The paper's four surgical cases (examples/cases) designed with the tool, summarised like its Table 1.
 examples: build

@@ -8,7 +8,8 @@
 
 or step by step: make_bone, make_boundary, make_template, make_tube, make_guide (alias make_final).
 Plans from planning software: load_plan (3D Slicer markups, CSV of axes, case files); sleeve sizes:
-sleeve_presets. Each call is one undo step. Lengths are in mm. Kernel failures raise ValueError (bad
+sleeve_presets; documentation: make_drawing (TechDraw page, PDF, SVG, drill protocol). Each call is one
+undo step. Lengths are in mm. Kernel failures raise ValueError (bad
 input) or RuntimeError (geometry), naming what and where.
 """
 import json
@@ -18,9 +19,10 @@ import FreeCAD as App
 
 import st_bridge
 import st_features
+from st_drawing import drill_protocol, make_drawing  # noqa: F401 (part of the API)
 
 __all__ = ["make_bone", "make_boundary", "make_template", "make_tube", "make_guide", "make_final", "export",
-           "load_case", "save_case", "load_plan", "sleeve_presets", "find_guide", "inspect", "thickness_colour"]
+           "load_case", "save_case", "load_plan", "sleeve_presets", "find_guide", "inspect", "thickness_colour", "make_drawing", "drill_protocol"]
 
 
 def _doc(doc):

@@ -164,6 +164,22 @@ def import_plan(path, target, choose_preset):
     return ok
 
 
+class MakeDrawing(_Command):
+    name, menu = "Drawing", "Documentation drawing"
+    tip = ("Make the selected guide's drawing: views, each sleeve dimensioned, sleeve table; "
+           "exported as PDF and SVG with a drill protocol (.txt)")
+
+    def IsActive(self):
+        return bool(selected("Guide"))
+
+    def Activated(self):
+        guide = selected("Guide")[0]
+        path, _ = QtGui.QFileDialog.getSaveFileName(Gui.getMainWindow(), "Documentation drawing",
+                                                    guide.Label + ".pdf", "PDF (*.pdf)")
+        if path:
+            run("Documentation drawing", f"SurgicalTemplate.make_drawing({ref(guide)}, {path!r})")
+
+
 class SaveCase(_Command):
     name, menu = "SaveCase", "Save case file"
     tip = "Write the selected guide's plan as a case file"
@@ -1052,6 +1068,7 @@ COMMANDS = {
     "SurgicalTemplate_CreateGuide": CreateGuide(),
     "SurgicalTemplate_Validate": Validate(),
     "SurgicalTemplate_ExportSTL": ExportSTL(),
+    "SurgicalTemplate_Drawing": MakeDrawing(),
 }
 
 
