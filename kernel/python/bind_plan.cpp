@@ -44,8 +44,13 @@ PlanAxis to_axis(const py::dict& d) {
   };
   a.name = d.contains("name") ? py::str(d["name"]).cast<std::string>() : "axis";
   a.source = d.contains("source") ? py::str(d["source"]).cast<std::string>() : a.name;
-  a.entry = *to_optional_point(d["entry"], a.source + ": entry");
-  a.direction = *to_optional_point(d["direction"], a.source + ": direction");
+  const auto point = [&](const char* key) {
+    const auto p = d.contains(key) ? to_optional_point(d[key], a.source + ": " + key) : std::nullopt;
+    if (!p) throw InvalidInput(a.source + ": '" + key + "' is required");
+    return *p;
+  };
+  a.entry = point("entry");
+  a.direction = point("direction");
   const double n = a.direction.norm();
   if (!(n > 0.0) || !std::isfinite(n)) throw InvalidInput(a.source + ": direction must be a non-zero vector");
   a.direction /= n;

@@ -100,6 +100,7 @@ inline TubeSpec to_tube(const py::handle& item, const std::string& where) {
   auto point = [&](const char* key) {
     if (!d.contains(key)) throw InvalidInput(where + ": missing '" + key + "'");
     const auto p = to_optional_point(py::reinterpret_borrow<py::object>(d[key]), where + "." + key);
+    if (!p) throw InvalidInput(where + ": '" + key + "' must be a point, not None");
     return *p;
   };
   TubeSpec t;

@@ -35,6 +35,32 @@ double segment_segment_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, 
   return (p0 + s * d1 - (q0 + t * d2)).norm();
 }
 
+/// Whether p lies behind the bone surface (inside the bone) seen from its closest point c: by the
+/// closest face's normal when c is inside that face, else (c on an edge or a vertex) by the sum of
+/// the normals of every face that c lies on, the pseudo-normal that decides sharp crests and grooves
+/// correctly where a single face's normal does not.
+bool behind_surface(const TriangleMesh& bone, const AabbTree& tree, const Vec3& p, const ClosestPoint& c) {
+  const Triangle& t = bone.triangles[c.face];
+  const Vec3 &a = bone.positions[t[0]], &b = bone.positions[t[1]], &d = bone.positions[t[2]];
+  const Vec3 n = (b - a).cross(d - a);
+  const double area2 = n.squaredNorm();
+  const double wa = (b - c.point).cross(d - c.point).dot(n) / area2;
+  const double wb = (d - c.point).cross(a - c.point).dot(n) / area2;
+  const double wd = 1.0 - wa - wb;
+  if (std::min({wa, wb, wd}) > 1e-9) return (p - c.point).dot(n) < 0.0;
+  Vec3 normal = Vec3::Zero();
+  const double reach = c.distance * (1.0 + 1e-9) + 1e-12;
+  BoundingBox box;
+  box.extend(p);
+  tree.for_each_in_box(box.inflated(reach), [&](Index f) {
+    const Triangle& u = bone.triangles[f];
+    const Vec3 q = closest_point_on_triangle(p, bone.positions[u[0]], bone.positions[u[1]], bone.positions[u[2]]);
+    const Vec3 m = triangle_normal(bone, f);
+    if ((q - p).norm() <= reach && m.norm() > 0.0) normal += m.normalized();
+  });
+  return (p - c.point).dot(normal) < 0.0;
+}
+
 } // namespace
 
 double segment_triangle_distance(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -77,8 +103,7 @@ GuideInspection inspect_guide(const TriangleMesh& guide, const TriangleMesh& bon
     const Vec3& p = guide.positions[v];
     const auto c = bone_tree.closest_point(p);
     if (!c) continue;
-    // Behind the bone surface: the closest face's normal points away from the vertex.
-    const double depth = (p - c->point).dot(triangle_normal(bone, c->face)) < 0.0 ? c->distance : 0.0;
+    const double depth = behind_surface(bone, bone_tree, p, *c) ? c->distance : 0.0;
     r.vertex_distance[v] = depth > 0.0 ? -depth : c->distance;
     if (depth > tolerance) {
       ++r.vertices_in_bone;

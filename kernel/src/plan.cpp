@@ -8,9 +8,8 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <cerrno>
+#include <charconv>
 #include <cmath>
-#include <cstdlib>
 #include <map>
 
 namespace st {
@@ -58,10 +57,17 @@ Space markup_space(const detail::JsonReader& r, const json& m, const std::string
 double markup_scale(const detail::JsonReader& r, const json& m, const std::string& key) {
   if (!m.contains("coordinateUnits")) return 1.0;
   const json& u = m["coordinateUnits"];
-  // A plain string, or a coded entry (UCUM) whose CodeValue is the unit.
-  const std::string unit = u.is_object() ? r.string(r.required(u, "CodeValue", key + ".coordinateUnits.CodeValue"),
-                                                    key + ".coordinateUnits.CodeValue")
-                                         : r.string(u, key + ".coordinateUnits");
+  // A plain string, or a coded entry (UCUM): [CodeValue, CodingSchemeDesignator, CodeMeaning] as Slicer
+  // writes it, or an object with a CodeValue.
+  std::string unit;
+  if (u.is_array()) {
+    if (u.empty()) r.fail(key + ".coordinateUnits", "is an empty coded entry");
+    unit = r.string(u[0], key + ".coordinateUnits[0]");
+  } else if (u.is_object()) {
+    unit = r.string(r.required(u, "CodeValue", key + ".coordinateUnits.CodeValue"), key + ".coordinateUnits.CodeValue");
+  } else {
+    unit = r.string(u, key + ".coordinateUnits");
+  }
   if (unit == "mm") return 1.0;
   if (unit == "um") return 1e-3;
   r.fail(key + ".coordinateUnits", "must be \"mm\" or \"um\", got \"" + unit + "\"");
@@ -135,23 +141,33 @@ std::vector<std::string> split_fields(std::string_view line, char delimiter, con
   return fields;
 }
 
-/// A column name as the plan's key: lower case, blanks and dashes as '_', a unit such as
-/// " (mm)" or " [mm]" dropped.
-std::string column_key(const std::string& name) {
+/// A column name as the plan's key: lower case, blanks and dashes as '_'. A unit after the name,
+/// " (mm)" or " [mm]", must be mm: every column is a length (or the name).
+std::string column_key(const std::string& name, const std::string& where) {
   std::string s = lower(trim(name));
-  if (const auto cut = s.find_first_of("(["); cut != std::string::npos) s = trim(s.substr(0, cut));
+  if (const auto cut = s.find_first_of("(["); cut != std::string::npos) {
+    const std::string unit = without_blanks(s.substr(cut + 1, s.find_first_of(")]", cut) - cut - 1));
+    if (unit != "mm")
+      throw InvalidInput(where + ": column \"" + trim(name) + "\": lengths must be in mm, not \"" + unit + "\"");
+    s = trim(s.substr(0, cut));
+  }
   for (char& ch : s)
     if (ch == ' ' || ch == '-') ch = '_';
   return s;
 }
 
+/// A decimal number (no hexadecimal, no locale), finite and within double range.
 double csv_number(const std::string& field, const std::string& where) {
   if (field.empty()) throw InvalidInput(where + ": is empty");
-  errno = 0;
-  char* end = nullptr;
-  const double v = std::strtod(field.c_str(), &end);
-  if (end != field.c_str() + field.size()) throw InvalidInput(where + ": \"" + field + "\" is not a number");
-  if (errno == ERANGE || !std::isfinite(v)) throw InvalidInput(where + ": \"" + field + "\" is not a finite number");
+  const char* begin = field.data() + (field[0] == '+' ? 1 : 0);
+  const char* end = field.data() + field.size();
+  double v = 0.0;
+  const auto [stop, error] = std::from_chars(begin, end, v, std::chars_format::general);
+  if (error == std::errc::result_out_of_range)
+    throw InvalidInput(where + ": \"" + field + "\" is out of range");
+  if (error != std::errc() || stop != end || begin == end)
+    throw InvalidInput(where + ": \"" + field + "\" is not a number");
+  if (!std::isfinite(v)) throw InvalidInput(where + ": \"" + field + "\" is not a finite number");
   return v;
 }
 
@@ -265,7 +281,11 @@ Plan parse_plan_csv(const std::string& text, const std::string& path, Space targ
     if (content.empty()) continue;
     if (content[0] == '#') {
       const std::string directive = lower(without_blanks(content.substr(1)));
+      if (!header.empty() && split_fields(line, delimiter, where).size() == header.size())
+        plan.warnings.push_back(where + ": starts with '#' and is ignored as a comment (a name starting with '#' "
+                                        "must be quoted)");
       if (directive.rfind("space=", 0) == 0) {
+        if (!header.empty()) throw InvalidInput(where + ": the space line must come before the column names");
         const std::string s = directive.substr(6);
         if (s == "lps") file_space = Space::LPS;
         else if (s == "ras") file_space = Space::RAS;
@@ -282,7 +302,7 @@ Plan parse_plan_csv(const std::string& text, const std::string& path, Space targ
         throw InvalidInput(where + ": the first line must name the columns (name, entry_x, entry_y, ...), "
                            "separated by commas, semicolons or tabs");
       delimiter = tabs >= commas && tabs >= semicolons ? '\t' : semicolons > commas ? ';' : ',';
-      for (const std::string& f : split_fields(line, delimiter, where)) header.push_back(column_key(f));
+      for (const std::string& f : split_fields(line, delimiter, where)) header.push_back(column_key(f, where));
       for (std::size_t i = 0; i < header.size(); ++i) {
         if (std::find(kCsvColumns.begin(), kCsvColumns.end(), header[i]) == kCsvColumns.end()) {
           plan.warnings.push_back(where + ": unknown column \"" + header[i] + "\" ignored");

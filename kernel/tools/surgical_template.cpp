@@ -117,6 +117,9 @@ struct PlanOptions {
 void apply_plan(st::CaseFile& c, const st::Plan& plan, const std::optional<st::SleevePreset>& sizes) {
   for (const std::string& w : plan.warnings) std::cerr << "warning: " << w << "\n";
   if (!plan.boundary_points.empty()) {
+    if (c.inside && !plan.inside)
+      std::cerr << "warning: " << plan.path << ": a new boundary without an inside point: the case's inside point "
+                << "is dropped (the smaller region is kept)\n";
     c.boundary_points = plan.boundary_points;
     c.inside = plan.inside;
   } else if (plan.inside) {

@@ -95,7 +95,7 @@ def work():
         result["validate"] = {"error": panel.error, "passed": r["passed"], "summary": r["summary"],
                               "bores": r["bores"], "in_bone": r["vertices_in_bone"],
                               "colours": len(guide.ThicknessMap), "facets": guide.Mesh.CountFacets,
-                              "coloring": guide.ViewObject.Coloring}
+                              "coloring": guide.ViewObject.Coloring, "state": list(guide.State)}
         # Look at the inner surface from inside the bone: the seat is green.
         bone.ViewObject.Visibility = False
         view = Gui.ActiveDocument.ActiveView

@@ -85,9 +85,12 @@ m_bone = st.make_bone(m["bone"], csv_doc)
 shell = st.make_template(st.make_boundary(m_bone, m["boundary_points"], m["inside"]), m["thickness"], m["clearance"],
                          m["resolution"] or 0.0)
 csv_doc.recompute()
-csv_guide = st.load_plan(os.path.join(examples, "plans", "maxilla-implants.csv"), shell)
+csv_guide = st.load_plan(os.path.join(examples, "plans", "maxilla-implants.csv"), m_bone)  # finds the template
 result["csv"] = {"solid": solid(csv_guide, "maxilla-csv"), "reference": reference,
-                 "tubes": [t.Label for t in csv_guide.Tubes], "depths": [t.Depth.Value for t in csv_guide.Tubes]}
+                 "tubes": [t.Label for t in csv_guide.Tubes], "depths": [t.Depth.Value for t in csv_guide.Tubes],
+                 "on_the_template": csv_guide.Shell == shell,
+                 "boundaries": len([o for o in csv_doc.Objects if getattr(getattr(o, "Proxy", None), "kind", "") ==
+                                    "Boundary"])}
 
 # 4. Bad plans name the file and the entry and change nothing.
 bad_csv = os.path.join(out, "bad.csv")
@@ -99,6 +102,17 @@ with open(bad_json, "w") as f:
     f.write('{"markups": [{"type": "Line", "controlPoints": [{"position": [0, 0, 0]}]}]}')
 attempt("bad_markups", lambda: st.load_plan(bad_json, csv_guide), csv_doc)
 attempt("bad_preset", lambda: st.load_plan(plan_path, csv_guide, preset="no-such-sleeve"), csv_doc)
+
+# A step that fails leaves nothing behind, also where the document keeps no undo (freecadcmd's default).
+plain = App.newDocument("NoUndo")
+plain.UndoMode = 0
+try:
+    with st._Step(plain, "failing"):
+        st.make_tube((0, 0, 0), (0, 0, -1), 1, 2, 5, doc=plain)
+        raise RuntimeError("fails after making a tube")
+except RuntimeError:
+    pass
+result["failed_step_objects"] = [o.Name for o in plain.Objects]
 
 # 5. A case with Slicer markups round-trips through the document: import, save, import: equal.
 slicer_case = os.path.join(examples, "cases", "vertebra-pedicle-slicer.json")

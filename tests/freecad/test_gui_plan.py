@@ -28,6 +28,7 @@ def test_validate_panel_inspects_and_colours_the_guide(session):
     assert v["error"] is None and v["passed"], v["summary"]
     assert [b["open"] for b in v["bores"]] == [True, True] and v["in_bone"] == 0
     assert v["colours"] == v["facets"] and v["coloring"]
+    assert "Touched" not in v["state"]  # showing the map does not make the guide recompute
     green, red = session["map_shot"]["green_red"]
     assert green > 0.005 and red < 0.001  # the seat seen from the bone's side; nothing in the bone
     assert session["coloring_off"] is False

@@ -40,6 +40,7 @@ def test_csv_axes_give_the_case_files_guide(run):
     r = run["csv"]
     assert r["tubes"] == ["16", "13", "11", "23", "26"]
     assert r["depths"] == pytest.approx([10.0] * 5, abs=1e-3)
+    assert r["on_the_template"] and r["boundaries"] == 1  # put on the bone: its template found, nothing duplicated
     assert valid(r["solid"])
     assert r["solid"]["volume"] == pytest.approx(r["reference"]["volume"], rel=1e-4)
 
@@ -73,3 +74,7 @@ def test_user_catalogue_extends_the_projects(run):
     assert r["mine"]["inner_radius"] == pytest.approx(1.0) and r["mine"]["offset"] == 0.0
     assert r["replaced"]["inner_radius"] == pytest.approx(1.1)  # the user's pilot-2.0 replaces the project's
     assert r["tube"][:4] == pytest.approx([1.0, 2.5, 7.0, 0.0]) and r["tube"][4] == "my-sleeve"
+
+
+def test_a_failing_step_leaves_nothing_without_undo(run):
+    assert run["failed_step_objects"] == []

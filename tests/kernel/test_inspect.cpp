@@ -74,6 +74,25 @@ TEST(Inspect, GuideInTheBoneAndBlockedBoresAreNamed) {
   EXPECT_FALSE(in_bone.passed());
 }
 
+// A point just outside a sharp crest, whose closest bone point is the crest's edge: outside on both
+// sides (one face's normal alone calls one side inside).
+TEST(Inspect, OutsideASharpCrestOnBothSides) {
+  TriangleMesh ridge; // a thin triangular prism along y, its crest at z = 1
+  for (double y : {0.0, 1.0})
+    for (const Vec3& p : {Vec3(-0.1, y, 0.0), Vec3(0.1, y, 0.0), Vec3(0.0, y, 1.0)}) ridge.positions.push_back(p);
+  ridge.triangles = {{0, 1, 2}, {3, 5, 4}, {0, 4, 1}, {0, 3, 4}, {1, 5, 2}, {1, 4, 5}, {2, 3, 0}, {2, 5, 3}};
+  ASSERT_GT(check_solid(ridge).volume, 0.0);
+  for (double side : {-1.0, 1.0}) {
+    TriangleMesh probe = st::test::make_icosphere(0.02, 1, Vec3(0.15 * side, 0.5, 1.3));
+    const GuideInspection g = inspect_guide(probe, ridge, {}, 0.0);
+    EXPECT_EQ(g.vertices_in_bone, 0u) << "side " << side;
+    EXPECT_GT(*std::min_element(g.vertex_distance.begin(), g.vertex_distance.end()), 0.0);
+  }
+  // And a point really inside, near the crest, is inside.
+  const GuideInspection inside = inspect_guide(st::test::make_icosphere(0.005, 1, Vec3(0.0, 0.5, 0.9)), ridge, {}, 0.0);
+  EXPECT_GT(inside.vertices_in_bone, 0u);
+}
+
 TEST(Inspect, SegmentTriangleDistance) {
   const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
   EXPECT_DOUBLE_EQ(segment_triangle_distance({0.2, 0.2, -1}, {0.2, 0.2, 1}, a, b, c), 0.0);

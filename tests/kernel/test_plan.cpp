@@ -112,6 +112,12 @@ TEST(Plan, SlicerMarkupsIntoARasBone) {
   expect_near(ras.axes[1].direction, {-0.6, -0.8, 0});
 }
 
+TEST(Plan, CoordinateUnitsAsSlicersCodedEntry) {
+  const std::string text = "{" + kSchema + R"(, "markups": [{"type": "Line", "coordinateUnits": ["um", "UCUM", "micrometer"],
+    "controlPoints": [{"position": [0, 0, 0]}, {"position": [0, 0, -4000]}]}]})";
+  EXPECT_DOUBLE_EQ(*parse_markups(text, "coded.mrk.json", Space::LPS).axes[0].depth, 4.0);
+}
+
 TEST(Plan, MicrometreMarkupsAreScaledAndPointListsMakeBoundaries) {
   const std::string text = "{" + kSchema + R"(, "markups": [
     {"type": "Fiducial", "coordinateUnits": {"CodeValue": "um", "CodingSchemeDesignator": "UCUM", "CodeMeaning": "micrometer"},
@@ -172,10 +178,15 @@ TEST(Plan, CsvOfAxesWithDirectionsOrTargets) {
   ASSERT_FALSE(p.warnings.empty());
   EXPECT_NE(p.warnings[0].find("comment"), std::string::npos);
 
-  const Plan d = parse_plan_csv("name,entry_x,entry_y,entry_z,direction_x,direction_y,direction_z\nA,1,2,3,0,0,2\n",
+  const Plan d = parse_plan_csv("name,entry_x,entry_y,entry_z,direction_x,direction_y,direction_z,length [mm]\n"
+                                "A,1,2,3,0,0,+2,5\n#B,1,2,3,0,0,1,5\n",
                                 "d.csv", Space::LPS);
+  ASSERT_EQ(d.axes.size(), 1u);
   expect_near(d.axes[0].direction, {0, 0, 1});
   EXPECT_FALSE(d.axes[0].depth);
+  EXPECT_DOUBLE_EQ(*d.axes[0].length, 5.0);
+  ASSERT_EQ(d.warnings.size(), 1u); // the '#B' row is a comment, and said to be one
+  EXPECT_NE(d.warnings[0].find("d.csv:3: starts with '#'"), std::string::npos);
   // A file that names its frame is converted into the bone's; without, it is taken in the bone's frame.
   const std::string ras = "# space=RAS\nname\tentry_x\tentry_y\tentry_z\tdirection_x\tdirection_y\tdirection_z\n"
                           "A\t1\t2\t3\t1\t0\t0\n";
@@ -202,7 +213,12 @@ TEST(Plan, MalformedCsvNamesTheLineAndTheColumn) {
       {head + "A,1,2,3,0,0\n", "bad.csv:2: has 6 fields, the header names 7"},
       {head + "A,1,2,3,0,0,1\nB,1,x,3,0,0,1\n", "bad.csv:3: entry_y: \"x\" is not a number"},
       {head + "A,1,,3,0,0,1\n", "bad.csv:2: entry_y: is empty"},
-      {head + "A,1,2,3,0,0,1e999\n", "not a finite number"},
+      {head + "A,1,2,3,0,0,1e999\n", "bad.csv:2: direction_z: \"1e999\" is out of range"},
+      {head + "A,1,2,3,0,0,nan\n", "\"nan\" is not a finite number"},
+      {head + "A,1,2,3,0,0,0x10\n", "\"0x10\" is not a number"},
+      {head + "A,1,2,3,0,0,1,2\n", "has 8 fields"},
+      {"name,entry_x,entry_y,entry_z,direction_x,direction_y,direction_z,length (cm)\n", "lengths must be in mm"},
+      {head + "# space=RAS\nA,1,2,3,0,0,1\n", "bad.csv:2: the space line must come before the column names"},
       {head + "A,1,2,3,0,0,0\n", "non-zero"},
       {head + "\"A,1,2,3,0,0,1\n", "not closed"},
       {"# space=XYZ\n" + head, "space must be LPS or RAS"},

@@ -30,7 +30,9 @@ def _doc(doc):
 
 
 class _Step:
-    """One undo step around a change of the document; steps inside a step belong to the outer one."""
+    """One undo step around a change of the document; steps inside a step belong to the outer one.
+    On failure the step is undone; where the document keeps no undo (UndoMode 0, as in freecadcmd)
+    the objects it made are removed, so nothing half-made stays."""
 
     _open = set()  # documents with a step under way
 
@@ -42,6 +44,7 @@ class _Step:
         if self.doc.Name not in _Step._open:
             _Step._open.add(self.doc.Name)
             self.outer = True
+            self.before = {o.Name for o in self.doc.Objects}
             self.doc.openTransaction(self.title)
         return self
 
@@ -52,6 +55,9 @@ class _Step:
                 self.doc.commitTransaction()
             else:
                 self.doc.abortTransaction()
+                for name in [o.Name for o in self.doc.Objects if o.Name not in self.before][::-1]:
+                    if self.doc.getObject(name) is not None:
+                        self.doc.removeObject(name)
         return False
 
 
@@ -118,11 +124,12 @@ def make_template(boundary, thickness=2.5, clearance=0.0, resolution=0.0, sampli
 
 
 def make_tube(entry, direction, inner_radius=None, outer_radius=None, length=None, offset=None, name="Tube",
-              doc=None, preset=None, depth=0.0):
+              doc=None, preset=None, depth=0.0, guide=None):
     """A drilling tube (guide sleeve) on a planned axis: entry at the bone, direction into it. Sizes
-    not given come from `preset` (a name from sleeve_presets() or one of its dicts); depth is the
-    planned drilling depth beyond the entry, for the drill protocol."""
-    doc = _doc(doc)
+    not given come from `preset` (a name from sleeve_presets() or one of its dicts; the tube's Preset
+    names it when its sizes are the preset's); depth is the planned drilling depth beyond the entry,
+    for the drill protocol. With `guide`, the tube is added to it in the same undo step."""
+    doc = guide.Document if guide is not None else _doc(doc)
     sizes = _preset(preset) if preset is not None else {}
     given = {"inner_radius": inner_radius, "outer_radius": outer_radius, "length": length, "offset": offset}
     for key, value in given.items():
@@ -142,9 +149,11 @@ def make_tube(entry, direction, inner_radius=None, outer_radius=None, length=Non
         obj.InnerRadius, obj.OuterRadius = given["inner_radius"], given["outer_radius"]
         obj.Length, obj.Offset = given["length"], given["offset"]
         obj.Depth = depth or 0.0
-        if sizes.get("name"):
+        if sizes.get("name") and all(abs(given[k] - sizes[k]) < 1e-9 for k in given):
             obj.Preset = sizes["name"]
         _view(obj, "SurgicalTemplate_Tube.svg")
+        if guide is not None:
+            guide.Tubes = guide.Tubes + [obj]
     return obj
 
 
@@ -236,8 +245,9 @@ def inspect(obj, show=True, tolerance=0.01):
     r["thickness"], r["clearance"] = thickness, clearance
     if show and App.GuiUp:
         if "ThicknessMap" not in obj.PropertiesList:
+            # An output that touches nothing: showing the map does not make the guide recompute.
             obj.addProperty("App::PropertyColorList", "ThicknessMap", "Validation",
-                            "Facet colours of the last inspection (distance from the bone)")
+                            "Facet colours of the last inspection (distance from the bone)", 8 | 16)
             obj.setEditorMode("ThicknessMap", 2)
         obj.ThicknessMap = [thickness_colour(x, thickness, clearance, tolerance) for x in r["face_distance"]]
         obj.ViewObject.Coloring = True
@@ -248,16 +258,30 @@ def _kind(obj):
     return getattr(getattr(obj, "Proxy", None), "kind", "Bone" if getattr(obj, "TypeId", "") == "Mesh::Feature" else "")
 
 
+def _built_on(obj):
+    """(guide, template, boundary, bone) built on `obj` (any of them), the latest of each where a bone
+    or boundary carries several; None for what does not exist yet."""
+    kind = _kind(obj)
+    guide = obj if kind == "Guide" else None
+    shell = obj if kind == "Template" else guide.Shell if guide else None
+    boundary = obj if kind == "Boundary" else shell.Boundary if shell else None
+    bone = obj if kind == "Bone" else boundary.Bone if boundary else None
+    objects = obj.Document.Objects
+    if boundary is None:
+        boundaries = [o for o in objects if _kind(o) == "Boundary" and o.Bone == bone]
+        boundary = boundaries[-1] if boundaries else None
+    if shell is None and boundary is not None:
+        shells = [o for o in objects if _kind(o) == "Template" and o.Boundary == boundary]
+        shell = shells[-1] if shells else None
+    if guide is None and shell is not None:
+        guides = [o for o in objects if _kind(o) == "Guide" and o.Shell == shell]
+        guide = guides[-1] if guides else None
+    return guide, shell, boundary, bone
+
+
 def find_guide(obj):
     """The guide built on `obj` (a guide, template, boundary or bone), or None."""
-    if obj is None:
-        return None
-    if _kind(obj) == "Guide":
-        return obj
-    for o in obj.Document.Objects:
-        if _kind(o) == "Guide" and o.Shell is not None and obj in (o.Shell, o.Shell.Boundary, o.Shell.Boundary.Bone):
-            return o
-    return None
+    return _built_on(obj)[0] if obj is not None else None
 
 
 def sleeve_presets():
@@ -309,17 +333,17 @@ def load_plan(path, target=None, preset=None, thickness=None):
         if target is None:
             raise ValueError(f"{path}: the document {doc.Label} has no bone for the plan")
     kind = _kind(target)
-    guide = find_guide(target)
-    shell = guide.Shell if guide else target if kind == "Template" else None
-    if shell is None and kind not in ("Boundary", "Bone"):
+    if kind not in ("Guide", "Template", "Boundary", "Bone"):
         raise ValueError(f"{target.Label}: a plan goes on a guide, template, boundary or bone, not a {kind or target.TypeId}")
-    boundary = shell.Boundary if shell else target if kind == "Boundary" else None
-    bone = boundary.Bone if boundary else target
+    guide, shell, boundary, bone = _built_on(target)
     plan = k.read_plan(path, getattr(bone, "CoordinateSystem", "LPS"))
     for w in plan["warnings"]:
         App.Console.PrintWarning(f"Surgical Template: {w}\n")
     sizes = _preset(preset) if preset is not None else None
     tubes = [k.tube_from_axis(a, sizes) for a in plan["axes"]]  # every size checked before any change
+    if tubes and boundary is None and plan["boundary_points"] is None:
+        raise ValueError(f"{path}: the plan has drilling axes but {bone.Label} has no boundary to put the "
+                         "template on; import or draw a boundary first")
     with _Step(doc, "Import plan"):
         if plan["boundary_points"] is not None:
             if boundary is None:
@@ -328,14 +352,15 @@ def load_plan(path, target=None, preset=None, thickness=None):
                 boundary.Points = _vectors(plan["boundary_points"])
                 if plan["inside"] is not None:
                     boundary.Inside, boundary.UseInside = App.Vector(*map(float, plan["inside"])), True
-        if shell is None and boundary is not None and (plan["boundary_points"] is not None or tubes):
+                elif boundary.UseInside:
+                    App.Console.PrintWarning(f"Surgical Template: {path}: a new boundary without an inside point: "
+                                             f"{boundary.Label}'s inside point is dropped (the smaller region is kept)\n")
+                    boundary.UseInside = False
+        if shell is None and (plan["boundary_points"] is not None or tubes):
             shell = make_template(boundary, thickness or 2.5)
         new = [make_tube(t["entry"], t["direction"], t["inner_radius"], t["outer_radius"], t["length"], t["offset"],
                          name=t["name"], doc=doc, depth=t["depth"], preset=sizes) for t in tubes]
         if new:
-            if shell is None:
-                raise ValueError(f"{path}: the plan has drilling axes but {bone.Label} has no boundary to put "
-                                 "the template on; import or draw a boundary first")
             if guide is None:
                 guide = make_guide(shell, new)
             else:

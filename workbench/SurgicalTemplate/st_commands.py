@@ -932,8 +932,14 @@ class AddTube(_Command):
            "set radii and length; added to the selected guide")
 
     def Activated(self):
-        bones = [o for o in App.ActiveDocument.Objects if o.TypeId == "Mesh::Feature"]
-        Gui.Control.showDialog(TubePanel(bones[0] if bones else None, (selected("Guide") or [None])[0]))
+        import SurgicalTemplate
+        chosen = (selected("Guide") or selected("Template") or selected("Boundary") or selected("Bone") or [None])[0]
+        if chosen is not None:
+            guide, _, _, bone = SurgicalTemplate._built_on(chosen)
+        else:
+            bones = [o for o in App.ActiveDocument.Objects if o.TypeId == "Mesh::Feature"]
+            guide, bone = None, bones[-1] if bones else None
+        Gui.Control.showDialog(TubePanel(bone, guide))
 
 
 class TubePanel:
@@ -978,7 +984,7 @@ class TubePanel:
         self.axis = QtGui.QLabel("")
         grid.addRow("Axis", self.axis)
         self.picked = None  # (entry, direction into the bone, depth or 0)
-        self.view = Gui.ActiveDocument.ActiveView
+        self.view = _view_of(bone.Document if bone is not None else App.ActiveDocument)
         self.callback = self.view.addEventCallback("SoMouseButtonEvent", self.on_mouse)
 
     def apply_preset(self, index):
@@ -1045,9 +1051,8 @@ class TubePanel:
         p, d, depth = self.picked
         code = (f"tube = SurgicalTemplate.make_tube(({p.x:.4f}, {p.y:.4f}, {p.z:.4f}), ({d.x:.5f}, {d.y:.5f}, "
                 f"{d.z:.5f}), {f['inner']}, {f['outer']}, {f['length']}, {f['offset']}"
-                + (f", depth={depth:.3f}" if depth else "") + (f", preset={preset!r}" if preset else "") + ")\n")
-        if self.guide is not None:
-            code += f"{ref(self.guide)}.Tubes = {ref(self.guide)}.Tubes + [tube]\n"
+                + (f", depth={depth:.3f}" if depth else "") + (f", preset={preset!r}" if preset else "")
+                + (f", guide={ref(self.guide)}" if self.guide is not None else "") + ")\n")
         run("Add drilling tube", code + "App.ActiveDocument.recompute()")
         return True
 

@@ -1053,11 +1053,12 @@ def _write_text(path, text):
     os.replace(tmp, path)
 
 
-def _remove_drawings_of(guide):
-    """The guide's previous drawing (page, views, lines and tables): make_drawing replaces it."""
+def _remove_drawings_of(guide, keep=None):
+    """The guide's previous drawing (page, views, lines and tables), all but the page `keep`:
+    make_drawing replaces it once the new one has passed its checks."""
     doc = guide.Document
     for page in [o for o in doc.Objects if o.TypeId == "TechDraw::DrawPage"]:
-        if getattr(page, "SurgicalGuide", None) != guide.Name:
+        if getattr(page, "SurgicalGuide", None) != guide.Name or page == keep:
             continue
         names = [v.Name for v in page.Views] + [page.Name]
         if page.Template is not None:
@@ -1107,12 +1108,12 @@ def make_drawing(guide, path, paper="A3", pdf=True, svg=True):
     builder.arrays = st_bridge.mesh_to_arrays(guide.Mesh)
     doc.openTransaction("Make drawing")
     try:
-        _remove_drawings_of(guide)
         page = builder.build()
         doc.recompute()
         builder.dimension_details()
         doc.recompute()
         _check_page(builder)
+        _remove_drawings_of(guide, keep=page)  # only now: a failure above keeps the old drawing
         doc.commitTransaction()
     except Exception:
         doc.abortTransaction()
