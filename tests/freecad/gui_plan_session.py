@@ -147,6 +147,19 @@ def work():
         result["view_click"] = tp.click((int(pos[0]), int(pos[1])))
         tp.accept()
         result["view_direction"] = {"tube": list(guide.Tubes[-1].Direction), "view": list(view.getViewDirection())}
+        # Surface normal: the tube goes into the bone against the normal of the facet that was clicked.
+        Gui.runCommand("SurgicalTemplate_AddTube")
+        tp = st_commands.TubePanel.last
+        tp.mode.setCurrentIndex(0)
+        pos = view.getPointOnScreen(App.Vector(*map(float, case["boundary_points"][2])))
+        hit = view.getObjectInfo((int(pos[0]), int(pos[1])))
+        result["normal_click"] = tp.click((int(pos[0]), int(pos[1])))
+        tp.accept()
+        d = view.getViewDirection()
+        point = App.Vector(hit["x"], hit["y"], hit["z"])
+        facets = bone.Mesh.nearestFacetOnRay(tuple(point - d * 50), tuple(d))  # the first facet from outside
+        facet = bone.Mesh.Facets[list(facets)[0]]
+        result["normal"] = {"tube": list(guide.Tubes[-1].Direction), "facet_normal": list(facet.Normal)}
         doc.recompute()
         recorded = snapshot(doc)
         macro = recorded_lines(console().toPlainText()[start:])

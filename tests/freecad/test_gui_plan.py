@@ -48,6 +48,12 @@ def test_tube_from_a_preset_and_a_second_point(session):
     assert r["preset"] == "kwire-2.0"
 
 
+def test_tube_against_the_clicked_facets_normal(session):
+    assert session["normal_click"]
+    n = session["normal"]
+    assert n["tube"] == pytest.approx([-x for x in n["facet_normal"]], abs=1e-4)
+
+
 def test_tube_along_the_view(session):
     assert session["view_click"]
     assert session["view_direction"]["tube"] == pytest.approx(session["view_direction"]["view"], abs=1e-4)
@@ -57,11 +63,11 @@ def test_tube_along_the_view(session):
 def test_recorded_macro_replays_to_the_same_tree(session):
     macro = "\n".join(session["macro"])
     assert "SurgicalTemplate.make_bone(" in macro and "SurgicalTemplate.load_plan(" in macro
-    assert macro.count("SurgicalTemplate.make_tube(") == 2
+    assert macro.count("SurgicalTemplate.make_tube(") == 3
     a, b = session["recorded"], session["replayed"]
     assert b["objects"] == a["objects"]
     assert b["points"] == a["points"]
-    assert len(b["tubes"]) == len(a["tubes"]) == 4
+    assert len(b["tubes"]) == len(a["tubes"]) == 5
     for ta, tb in zip(a["tubes"], b["tubes"]):
         assert tb[0] == ta[0] and tb[5] == ta[5]
         assert tb[1] + tb[2] + tb[3:5] == pytest.approx(ta[1] + ta[2] + ta[3:5], abs=1e-3)  # recorded to 4-5 decimals

@@ -1008,12 +1008,13 @@ class TubePanel:
         hit = self.view.getObjectInfo(tuple(position))
         if not hit or self.bone is None or hit.get("Object") != self.bone.Name:
             return None, None
-        facet = hit.get("Facet", hit.get("Component"))
-        normal = None
-        if isinstance(facet, int) or (isinstance(facet, str) and facet.startswith("Facet")):
-            index = facet if isinstance(facet, int) else int(facet[5:]) - 1
-            normal = self.bone.Mesh.Facets[index].Normal
-        return App.Vector(hit["x"], hit["y"], hit["z"]), normal
+        p = App.Vector(hit["x"], hit["y"], hit["z"])
+        # The clicked facet (FreeCAD names a mesh pick only "Main"): the first one a short ray along the
+        # view meets through the picked point.
+        d = App.Vector(self.view.getViewDirection())
+        facets = self.bone.Mesh.nearestFacetOnRay(tuple(p - d * 0.05), tuple(d))
+        normal = self.bone.Mesh.Facets[int(list(facets)[0])].Normal if facets else None
+        return p, normal
 
     def click(self, position):
         """A click at a screen position: the entry, or in second-point mode the point along the axis."""
