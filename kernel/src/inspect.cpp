@@ -1,6 +1,7 @@
 #include "st/inspect.h"
 
 #include "detail/format.h"
+#include "detail/parallel.h"
 #include "st/aabb_tree.h"
 #include "st/sleeve.h"
 #include "st/triangle_intersection.h"
@@ -99,17 +100,20 @@ GuideInspection inspect_guide(const TriangleMesh& guide, const TriangleMesh& bon
   r.solid = check_solid(guide);
   const AabbTree bone_tree(bone);
   r.vertex_distance.resize(guide.positions.size(), 0.0);
-  for (std::size_t v = 0; v < guide.positions.size(); ++v) {
-    const Vec3& p = guide.positions[v];
-    const auto c = bone_tree.closest_point(p);
-    if (!c) continue;
-    const double depth = behind_surface(bone, bone_tree, p, *c) ? c->distance : 0.0;
-    r.vertex_distance[v] = depth > 0.0 ? -depth : c->distance;
-    if (depth > tolerance) {
-      ++r.vertices_in_bone;
-      r.deepest_in_bone = std::max(r.deepest_in_bone, depth);
+  detail::parallel_for(guide.positions.size(), 1024, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v) {
+      const Vec3& p = guide.positions[v];
+      const auto c = bone_tree.closest_point(p);
+      if (!c) continue;
+      r.vertex_distance[v] = behind_surface(bone, bone_tree, p, *c) ? -c->distance : c->distance;
     }
-    if (std::abs(c->distance - clearance) <= tolerance) ++r.seated_vertices;
+  });
+  for (const double d : r.vertex_distance) {
+    if (-d > tolerance) {
+      ++r.vertices_in_bone;
+      r.deepest_in_bone = std::max(r.deepest_in_bone, -d);
+    }
+    if (std::abs(d - clearance) <= tolerance) ++r.seated_vertices;
   }
   const AabbTree guide_tree(guide);
   for (const TubeSpec& t : tubes) {

@@ -1,10 +1,10 @@
 #include "st/offset.h"
 
+#include "detail/parallel.h"
 #include "st/errors.h"
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -12,8 +12,6 @@
 #include <limits>
 #include <numbers>
 #include <string>
-#include <system_error>
-#include <thread>
 #include <utility>
 #include <vector>
 
@@ -463,40 +461,6 @@ constexpr std::array<TetCase, 16> make_tet_cases() {
 
 constexpr std::array<TetCase, 16> kTetCases = make_tet_cases();
 
-// ---- threads ----------------------------------------------------------------------------------------
-
-unsigned thread_count() {
-  return std::clamp(std::thread::hardware_concurrency(), 1u, 8u);
-}
-
-/// Runs work(worker, begin, end) over [0, n) in chunks of `grain` items, handed out in order to up
-/// to thread_count() threads; worker < thread_count() names the thread (for per-thread scratch).
-template <class Work>
-void parallel_for(std::size_t n, std::size_t grain, const Work& work) {
-  const std::size_t chunks = (n + grain - 1) / grain;
-  const std::size_t threads = std::min<std::size_t>(thread_count(), chunks);
-  if (threads <= 1) {
-    if (n > 0) work(std::size_t{0}, std::size_t{0}, n);
-    return;
-  }
-  std::atomic<std::size_t> next{0};
-  auto run = [&](std::size_t worker) {
-    for (std::size_t c = next.fetch_add(1); c < chunks; c = next.fetch_add(1))
-      work(worker, c * grain, std::min(n, (c + 1) * grain));
-  };
-  std::vector<std::thread> pool;
-  pool.reserve(threads - 1);
-  for (std::size_t k = 1; k < threads; ++k) {
-    try {
-      pool.emplace_back(run, k);
-    } catch (const std::system_error&) {
-      break; // fewer threads: the others take over the chunks
-    }
-  }
-  run(0);
-  for (std::thread& t : pool) t.join();
-}
-
 // ---- the distance band ----------------------------------------------------------------------------
 
 struct BandParams {
@@ -521,7 +485,7 @@ struct Contour {
 class DistanceBand {
 public:
   DistanceBand(const Patch& patch, const BandParams& params)
-      : patch_(patch), p_(params), blocks_map_(expected_blocks(params)), scratch_(thread_count()) {
+      : patch_(patch), p_(params), blocks_map_(expected_blocks(params)), scratch_(detail::thread_count()) {
     blocks_.reserve(expected_blocks(params));
   }
 
@@ -817,7 +781,7 @@ void DistanceBand::seed() {
     for (const auto& pr : pairs) binned[fill[pr.first]++] = pr.second;
   }
   pairs = {};
-  parallel_for(blocks_.size(), 16, [&](std::size_t, std::size_t begin, std::size_t end) {
+  detail::parallel_for(blocks_.size(), 16, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t b = begin; b < end; ++b)
       for (std::size_t k = offsets[b]; k < offsets[b + 1]; ++k)
         rasterize(static_cast<std::size_t>(binned[k]), static_cast<std::int32_t>(b));
@@ -1127,7 +1091,7 @@ void DistanceBand::grow() {
     }
     starts.push_back(nodes.size());
     results.resize(nodes.size());
-    parallel_for(touched.size(), 8, [&](std::size_t worker, std::size_t begin, std::size_t end) {
+    detail::parallel_for(touched.size(), 8, [&](std::size_t worker, std::size_t begin, std::size_t end) {
       for (std::size_t k = begin; k < end; ++k)
         evaluate_block(touched[k], nodes, starts[k], starts[k + 1], scratch_[worker], results);
     });
@@ -1182,7 +1146,7 @@ Contour DistanceBand::contour() const {
   const double h = p_.h;
 
   std::vector<SliceMasks> below(nb);
-  parallel_for(nb, 32, [&](std::size_t, std::size_t begin, std::size_t end) {
+  detail::parallel_for(nb, 32, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t b = begin; b < end; ++b)
       for (int s = 0; s < 8; ++s) {
         std::uint64_t m = 0;
@@ -1207,7 +1171,7 @@ Contour DistanceBand::contour() const {
     Index count = 0;
   };
   std::vector<BlockContour> bc(nb);
-  parallel_for(nb, 32, [&](std::size_t, std::size_t begin, std::size_t end) {
+  detail::parallel_for(nb, 32, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t b = begin; b < end; ++b) {
       const Block& blk = blocks_[b];
       BlockContour& out = bc[b];
@@ -1285,7 +1249,7 @@ Contour DistanceBand::contour() const {
     const Block& n = blocks_[blk.neighbours[neighbour_slot(x >> 3, y >> 3, z >> 3)]];
     return field_value(n.dist[(x & 7) | ((y & 7) << 3) | ((z & 7) << 6)]);
   };
-  parallel_for(nb, 32, [&](std::size_t, std::size_t begin, std::size_t end) {
+  detail::parallel_for(nb, 32, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t b = begin; b < end; ++b) {
       const Block& blk = blocks_[b];
       for (int d = 1; d < 8; ++d)
@@ -1329,7 +1293,7 @@ Contour DistanceBand::contour() const {
     return bc[n].first + bc[n].rank[d - 1][l >> 6] +
            static_cast<Index>(bit_count(m & ((std::uint64_t{1} << (l & 63)) - 1)));
   };
-  parallel_for(nb, kChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
+  detail::parallel_for(nb, kChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
     std::vector<Triangle>& tris = chunks[begin / kChunk];
     for (std::size_t b = begin; b < end; ++b) {
       const Block& blk = blocks_[b];

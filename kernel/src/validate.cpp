@@ -1,5 +1,6 @@
 #include "st/validate.h"
 
+#include "detail/parallel.h"
 #include "st/aabb_tree.h"
 #include "st/topology.h"
 #include "st/triangle_intersection.h"
@@ -7,6 +8,8 @@
 #include <algorithm>
 #include <sstream>
 #include <unordered_map>
+#include <utility>
+#include <vector>
 
 namespace st {
 
@@ -120,18 +123,29 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
   }
 
   if (options.check_self_intersections && r.degenerate_triangles == 0) {
+    // The candidate pairs (overlapping boxes) from the tree, then the exact tests on all threads; what
+    // is found is gathered per chunk, in pair order, so the report does not depend on the threads.
     const AabbTree tree(mesh);
-    tree.for_each_overlapping_pair([&](Index a, Index b) {
-      if (r.self_intersections >= options.max_reported) return;
-      const Triangle& ta = mesh.triangles[a];
-      const Triangle& tb = mesh.triangles[b];
-      const std::array<Vec3, 3> pa{mesh.positions[ta[0]], mesh.positions[ta[1]], mesh.positions[ta[2]]};
-      const std::array<Vec3, 3> pb{mesh.positions[tb[0]], mesh.positions[tb[1]], mesh.positions[tb[2]]};
-      if (mesh_triangles_intersect(ta, pa, tb, pb)) {
-        ++r.self_intersections;
-        note(pa[0]);
+    std::vector<std::pair<Index, Index>> pairs;
+    tree.for_each_overlapping_pair([&](Index a, Index b) { pairs.emplace_back(a, b); });
+    constexpr std::size_t kGrain = 4096;
+    std::vector<std::vector<Index>> found((pairs.size() + kGrain - 1) / kGrain);
+    detail::parallel_for(pairs.size(), kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const auto [a, b] = pairs[i];
+        const Triangle& ta = mesh.triangles[a];
+        const Triangle& tb = mesh.triangles[b];
+        const std::array<Vec3, 3> pa{mesh.positions[ta[0]], mesh.positions[ta[1]], mesh.positions[ta[2]]};
+        const std::array<Vec3, 3> pb{mesh.positions[tb[0]], mesh.positions[tb[1]], mesh.positions[tb[2]]};
+        if (mesh_triangles_intersect(ta, pa, tb, pb)) found[begin / kGrain].push_back(a);
       }
     });
+    for (const std::vector<Index>& chunk : found)
+      for (Index a : chunk) {
+        if (r.self_intersections >= options.max_reported) break;
+        ++r.self_intersections;
+        note(mesh.positions[mesh.triangles[a][0]]);
+      }
   }
   return r;
 }
@@ -140,13 +154,25 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
   DistanceStats s;
   if (points.empty() || surface.empty()) return s;
   const AabbTree tree(surface);
+  // Per chunk of points on all threads, summed in chunk order (the same result on any machine).
+  constexpr std::size_t kGrain = 1024;
+  std::vector<DistanceStats> chunks((points.size() + kGrain - 1) / kGrain);
+  detail::parallel_for(points.size(), kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
+    DistanceStats& c = chunks[begin / kGrain];
+    c.min = std::numeric_limits<double>::infinity();
+    for (std::size_t i = begin; i < end; ++i) {
+      const double d = tree.closest_point(points[i])->distance;
+      c.min = std::min(c.min, d);
+      c.max = std::max(c.max, d);
+      c.mean += d; // the sum, for now
+    }
+  });
   s.min = std::numeric_limits<double>::infinity();
   double sum = 0.0;
-  for (const Vec3& p : points) {
-    const double d = tree.closest_point(p)->distance;
-    s.min = std::min(s.min, d);
-    s.max = std::max(s.max, d);
-    sum += d;
+  for (const DistanceStats& c : chunks) {
+    s.min = std::min(s.min, c.min);
+    s.max = std::max(s.max, c.max);
+    sum += c.mean;
   }
   s.count = points.size();
   s.mean = sum / static_cast<double>(points.size());
