@@ -120,7 +120,7 @@ void bind_template(py::module_& m) {
       "design_template",
       [](const Points& v, const Faces& f, const Points& boundary_points, double thickness, double clearance,
          double resolution, int sampling_step, const py::object& inside, double max_snap_distance, bool check,
-         bool simplify_outer, const py::object& tubes, double tube_tolerance) {
+         bool simplify_outer, const py::object& tubes, double tube_tolerance, bool fit) {
         const TriangleMesh bone = to_mesh(v, f, "bone");
         TemplateOptions o;
         o.boundary_points = to_points(boundary_points, "boundary_points");
@@ -131,6 +131,7 @@ void bind_template(py::module_& m) {
         o.sampling_step = sampling_step;
         o.max_snap_distance = max_snap_distance;
         o.check = check;
+        o.measure_fit = fit;
         o.simplify_outer = simplify_outer;
         o.tubes = to_tubes(tubes);
         o.tube_tolerance = tube_tolerance;
@@ -169,8 +170,8 @@ void bind_template(py::module_& m) {
         times["boolean"] = r.times.boolean;
         times["validation"] = r.times.validation;
         d["times"] = times;
-        if (check) {
-          d["solid"] = solid_dict(r.solid);
+        if (check) d["solid"] = solid_dict(r.solid);
+        if (check && fit) {
           py::dict fit;
           fit["inner_to_bone"] = stats_dict(r.fit.inner_to_bone);
           fit["outer_to_inner"] = stats_dict(r.fit.outer_to_inner);
@@ -183,11 +184,11 @@ void bind_template(py::module_& m) {
       py::arg("clearance") = 0.0, py::arg("resolution") = 0.0, py::arg("sampling_step") = 0,
       py::arg("inside") = py::none(), py::arg("max_snap_distance") = tol::kMaxSnapDistance_mm,
       py::arg("check") = true, py::arg("simplify_outer") = false, py::arg("tubes") = py::none(),
-      py::arg("tube_tolerance") = 0.01,
+      py::arg("tube_tolerance") = 0.01, py::arg("fit") = true,
       "Designs the template (closed shell) on a bone mesh, with its drilling tubes (dicts with the case file's "
       "tube keys) merged and bored. Returns a dict with 'shell' (the guide), 'body' (before the tubes; its first "
       "'inner_faces' faces are the inner surface), 'inner', 'outer' (each (vertices, triangles)), 'from_tube' "
-      "(per shell face), 'tubes' (placements), 'curve', 'counts', 'times' (s), 'solid' and 'fit'.");
+      "(per shell face), 'tubes' (placements), 'curve', 'counts', 'times' (s), 'solid' and (with fit=True) 'fit'.");
 
   m.def(
       "add_tubes",

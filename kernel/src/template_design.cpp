@@ -364,7 +364,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   }
   result.inner = std::move(inner.region);
   result.outer = std::move(outer->region);
-  if (options.check) {
+  if (options.check && options.measure_fit) {
     t0 = Clock::now();
     result.fit.inner_to_bone = distances_to_surface(result.inner.positions, bone_region);
     result.fit.outer_to_inner = distances_to_surface(result.outer.positions, result.inner);

@@ -109,7 +109,8 @@ class Template(_Feature):
         r = k.design_template(V, F, [st_bridge.vec(p) for p in b.Points], float(obj.Thickness.Value),
                               clearance=float(obj.Clearance.Value), resolution=float(obj.Resolution.Value),
                               sampling_step=int(obj.SamplingStep),
-                              inside=st_bridge.vec(b.Inside) if b.UseInside else None)
+                              inside=st_bridge.vec(b.Inside) if b.UseInside else None,
+                              fit=False)  # the solid check, not the fit statistics (Validate inspects)
         obj.Mesh = st_bridge.arrays_to_mesh(*r["shell"])
         obj.InnerFaces = int(r["inner_faces"])
         self.drop_thickness_map(obj)

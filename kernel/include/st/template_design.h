@@ -30,7 +30,8 @@ struct TemplateOptions {
   /// keeping its rim and first ring exactly (5x fewer triangles, no slivers; costs 0.3-0.7 s today).
   /// A simplified shell that fails the check falls back to the contoured one.
   bool simplify_outer = false;
-  bool check = true;                  ///< run check_solid and the fit measurements on the result
+  bool check = true;                  ///< run check_solid on the result (a broken shell is refused)
+  bool measure_fit = true;            ///< with check: also measure the fit (TemplateResult::fit)
   /// Drilling tubes merged into the shell (guide.h); empty for a template without sleeves.
   std::vector<TubeSpec> tubes;
   double tube_tolerance = 0.01;       ///< chordal tolerance of sleeves and bores, mm
