@@ -85,9 +85,10 @@ TriangleMesh make_height_field(double x0, double x1, double y0, double y1, int n
   return m;
 }
 
-/// Closed box [0,a]x[0,b]x[0,c] made of a fine grid on each side (for open / closed solids).
+/// The project's examples folder (cases, meshes, plans).
 inline std::string examples_dir() { return ST_EXAMPLES_DIR; }
 
+/// The build's test-output folder (made if missing), for files tests write and CI keeps.
 inline std::string output_dir() {
   std::filesystem::create_directories(ST_TEST_OUTPUT_DIR);
   return ST_TEST_OUTPUT_DIR;
