@@ -6,6 +6,7 @@ the Python console) is replayed into fresh documents and must give the same tree
 Writes $ST_OUT/gui-plan-result.json; test_gui_plan.py asserts on it."""
 import json
 import os
+import time
 import traceback
 
 import FreeCAD as App
@@ -173,6 +174,16 @@ def work():
         guide.Tubes = guide.Tubes[:tubes_before]
         doc.recompute()
         result["final_state"] = list(guide.State)
+        # The event loop keeps running while the kernel works (a timer keeps ticking during a recompute).
+        ticks = [0]
+        timer = QtCore.QTimer()
+        timer.timeout.connect(lambda: ticks.__setitem__(0, ticks[0] + 1))
+        timer.start(20)
+        start = time.perf_counter()
+        guide.Shell.Thickness = guide.Shell.Thickness.Value + 0.3
+        doc.recompute()
+        result["responsive"] = {"ticks": ticks[0], "seconds": time.perf_counter() - start, "state": list(guide.State)}
+        timer.stop()
         # The map goes when the guide is recomputed (it no longer matches the mesh).
         guide.ViewObject.Coloring = True
         guide.ThicknessMap = [(0.5, 0.5, 0.5)] * guide.Mesh.CountFacets

@@ -73,3 +73,9 @@ def test_recorded_macro_replays_to_the_same_tree(session):
         assert tb[1] + tb[2] + tb[3:5] == pytest.approx(ta[1] + ta[2] + ta[3:5], abs=1e-3)  # recorded to 4-5 decimals
     assert b["state"] == a["state"] and b["facets"] == a["facets"]
     assert b["volume"] == pytest.approx(a["volume"], rel=1e-9)
+
+
+def test_the_gui_keeps_running_while_the_kernel_works(session):
+    r = session["responsive"]
+    assert "Invalid" not in r["state"] and r["seconds"] > 0.2
+    assert r["ticks"] >= 0.3 * r["seconds"] / 0.02, r  # a 20 ms timer fired through the recompute

@@ -239,7 +239,8 @@ def inspect(obj, show=True, tolerance=0.01):
     V, F = st_bridge.mesh_to_arrays(obj.Mesh)
     tubes = [t.Proxy.spec(t) for t in obj.Tubes] if kind == "Guide" else []
     clearance, thickness = float(shell.Clearance.Value), float(shell.Thickness.Value)
-    r = k.inspect_guide(V, F, *st_bridge.bone_arrays(shell.Boundary.Bone), tubes, clearance, tolerance)
+    r = st_bridge.call(k.inspect_guide, V, F, *st_bridge.bone_arrays(shell.Boundary.Bone), tubes, clearance,
+                       tolerance)
     d = r.pop("vertex_distance")
     r["face_distance"] = [float(x) for x in d[F].mean(axis=1)]  # FreeCAD keeps the facet order
     r["thickness"], r["clearance"] = thickness, clearance

@@ -27,6 +27,33 @@ def kernel():
     return stkernel
 
 
+def call(function, *args, **kwargs):
+    """function(*args, **kwargs) of the kernel. In the GUI it runs in a worker thread (the kernel
+    releases Python's lock while it works) and FreeCAD keeps painting and animating its busy indicator
+    meanwhile; user input waits, as during FreeCAD's own long operations. Exceptions come through."""
+    if not App.GuiUp:
+        return function(*args, **kwargs)
+    import threading
+    from PySide import QtCore
+
+    outcome = {}
+
+    def work():
+        try:
+            outcome["value"] = function(*args, **kwargs)
+        except BaseException as e:  # noqa: B902 (handed to the caller's thread)
+            outcome["error"] = e
+
+    worker = threading.Thread(target=work, name="surgical-template-kernel", daemon=True)
+    worker.start()
+    while worker.is_alive():
+        QtCore.QCoreApplication.processEvents(QtCore.QEventLoop.ExcludeUserInputEvents, 30)
+        worker.join(0.01)
+    if "error" in outcome:
+        raise outcome["error"]
+    return outcome["value"]
+
+
 class _Scratch:
     def __enter__(self):
         self.path = tempfile.mkdtemp(prefix="surgical-template-")

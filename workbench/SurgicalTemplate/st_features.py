@@ -106,11 +106,11 @@ class Template(_Feature):
             raise ValueError(f"{obj.Label}: no boundary on a bone")
         V, F = st_bridge.bone_arrays(b.Bone)
         k = st_bridge.kernel()
-        r = k.design_template(V, F, [st_bridge.vec(p) for p in b.Points], float(obj.Thickness.Value),
-                              clearance=float(obj.Clearance.Value), resolution=float(obj.Resolution.Value),
-                              sampling_step=int(obj.SamplingStep),
-                              inside=st_bridge.vec(b.Inside) if b.UseInside else None,
-                              fit=False)  # the solid check, not the fit statistics (Validate inspects)
+        r = st_bridge.call(k.design_template, V, F, [st_bridge.vec(p) for p in b.Points],
+                           float(obj.Thickness.Value), clearance=float(obj.Clearance.Value),
+                           resolution=float(obj.Resolution.Value), sampling_step=int(obj.SamplingStep),
+                           inside=st_bridge.vec(b.Inside) if b.UseInside else None,
+                           fit=False)  # the solid check, not the fit statistics (Validate inspects)
         obj.Mesh = st_bridge.arrays_to_mesh(*r["shell"])
         obj.InnerFaces = int(r["inner_faces"])
         self.drop_thickness_map(obj)
@@ -188,14 +188,14 @@ class Guide(_Feature):
         BV, BF = st_bridge.bone_arrays(shell.Boundary.Bone)
         tubes = [t.Proxy.spec(t) for t in obj.Tubes]
         if tubes:
-            g = k.add_tubes(V, F, int(shell.InnerFaces), BV, BF, tubes,
-                            chordal_tolerance=float(obj.Tolerance.Value),
-                            clearance=float(shell.Clearance.Value))
+            g = st_bridge.call(k.add_tubes, V, F, int(shell.InnerFaces), BV, BF, tubes,
+                               chordal_tolerance=float(obj.Tolerance.Value),
+                               clearance=float(shell.Clearance.Value))
             V, F = g["mesh"]
             seconds = g["seconds"]
         else:
             seconds = 0.0
-        report = k.check_solid(V, F)
+        report = st_bridge.call(k.check_solid, V, F)
         if not report["valid"]:
             raise RuntimeError(f"{obj.Label}: the guide failed its check: {report['summary']}")
         obj.Mesh = st_bridge.arrays_to_mesh(V, F)
