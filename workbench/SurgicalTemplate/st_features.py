@@ -227,7 +227,7 @@ class ViewProvider:
             kids += list(o.Tubes)
         return kids
 
-    # Edit mode. A boundary's editor is the boundary panel on its points (st_commands.edit_boundary);
+    # Edit mode. A boundary's editor is the boundary panel on its points (st_panels.edit_boundary);
     # a double-click in the tree enters edit mode 0 (FreeCAD's default for Part features, so there is no
     # doubleClicked here: in 0.20 any doubleClicked, even one returning None, replaces the default for all
     # kinds). For other kinds these return None, which leaves FreeCAD's default behaviour.
@@ -237,14 +237,14 @@ class ViewProvider:
     def setEdit(self, vobj, mode=0):
         if mode != 0 or not self._editable():
             return None
-        import st_commands
-        return st_commands.edit_boundary(vobj.Object)
+        import st_panels
+        return st_panels.edit_boundary(vobj.Object)
 
     def unsetEdit(self, vobj, mode=0):
         if mode != 0 or not self._editable():
             return None
-        import st_commands
-        st_commands.BoundaryPanel.edit_ended(vobj.Object)
+        import st_panels
+        st_panels.BoundaryPanel.edit_ended(vobj.Object)
         return True
 
     def setupContextMenu(self, vobj, menu):

@@ -1,0 +1,66 @@
+"""What the workbench's commands and task panels share: icons, preferences, recorded commands,
+the selection, references to objects in recorded code, the 3D view of a document."""
+import os
+
+import FreeCAD as App
+import FreeCADGui as Gui
+from PySide import QtCore, QtGui
+
+ICONS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "icons")
+PREFS = "User parameter:BaseApp/Preferences/Mod/SurgicalTemplate"
+
+
+def icon(name):
+    return os.path.join(ICONS, f"SurgicalTemplate_{name}.svg")
+
+
+def preference(name, default):
+    """A default from the preferences page (Edit > Preferences > Surgical Template), in mm."""
+    p = App.ParamGet(PREFS)
+    return p.GetFloat(name, default) if name in p.GetFloats() else default
+
+
+def run(title, code):
+    """Runs recorded code with a wait cursor; True when it worked."""
+    # Always recorded (Gui.addModule writes the import only once per session, so a macro recorded
+    # later would lack it).
+    code = "import SurgicalTemplate\n" + code
+    QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
+    progress = App.Base.ProgressIndicator()  # FreeCAD's busy indicator in the status bar
+    progress.start(f"Surgical Template: {title}...", 0)
+    try:
+        Gui.doCommand(code)
+        return True
+    except Exception as e:  # the kernel's ValueError/RuntimeError name what and where
+        App.Console.PrintError(f"Surgical Template: {title} failed: {e}\n")
+        QtGui.QMessageBox.warning(Gui.getMainWindow(), "Surgical Template", f"{title} failed:\n{e}")
+        return False
+    finally:
+        progress.stop()
+        QtGui.QApplication.restoreOverrideCursor()
+
+
+def selected(kind):
+    """Selected objects of a kind: 'Bone' (a plain mesh), or a proxy kind (Boundary, Template, ...)."""
+    out = []
+    for o in Gui.Selection.getSelection():
+        proxy_kind = getattr(getattr(o, "Proxy", None), "kind", None)
+        if kind == "Bone" and o.TypeId == "Mesh::Feature":
+            out.append(o)
+        elif proxy_kind == kind:
+            out.append(o)
+    return out
+
+
+def ref(obj):
+    return f"App.getDocument({obj.Document.Name!r}).getObject({obj.Name!r})"
+
+
+def _view_of(doc):
+    """The 3D view of a document: its active view if that is one."""
+    gui_doc = Gui.getDocument(doc.Name)
+    view = gui_doc.ActiveView
+    if not hasattr(view, "getObjectsInfo"):
+        views = gui_doc.mdiViewsOfType("Gui::View3DInventor")
+        view = views[0] if views else Gui.ActiveDocument.ActiveView
+    return view
