@@ -10,7 +10,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from test_workbench import FREECAD_LIB, ROOT, install_workbench
+from fc_session import FREECAD_LIB, ROOT, install_workbench
 
 CASE = os.path.join(ROOT, "examples", "cases", "maxilla-implants.json")
 

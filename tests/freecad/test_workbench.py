@@ -4,7 +4,7 @@ import os
 
 import pytest
 
-from fc_session import FREECAD_LIB, ROOT, install_workbench, run_headless  # noqa: F401 (used by other suites)
+from fc_session import ROOT, run_headless
 
 
 @pytest.fixture(scope="module")
