@@ -2,15 +2,18 @@
 
 #include "detail/json_reader.h"
 #include "st/errors.h"
-#include "st/mesh_io.h"
 #include "st/sleeve_presets_data.h"
 
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <map>
+
+#include <zlib.h>
 
 namespace st {
 
@@ -183,9 +186,36 @@ Space mesh_space(std::string_view header) {
 }
 
 Space mesh_file_space(const std::string& path) {
-  ReadReport report;
-  read_mesh(path, &report);
-  return mesh_space(report.header);
+  // Only the file's start (inflated when it is gzip; zlib reads plain files as they are): where a mesh
+  // says its frame. A binary STL's 80-byte header, an ASCII STL's "solid" line, PLY "comment" lines
+  // before end_header, OBJ "#" lines near the top.
+  gzFile file = gzopen(path.c_str(), "rb");
+  if (file == nullptr) throw InvalidInput(path + ": cannot open the mesh file (" + std::strerror(errno) + ")");
+  std::string head(64 * 1024, '\0');
+  const int got = gzread(file, head.data(), static_cast<unsigned>(head.size()));
+  gzclose(file);
+  if (got < 0) throw InvalidInput(path + ": cannot read the start of the mesh file (corrupt gzip data?)");
+  head.resize(static_cast<std::size_t>(got));
+  if (head.rfind("ply", 0) == 0) {
+    std::string comments;
+    const std::size_t end = head.find("end_header");
+    std::size_t at = 0;
+    while ((at = head.find("comment", at)) != std::string::npos && at < end) {
+      const std::size_t eol = head.find('\n', at);
+      comments.append(head, at, eol == std::string::npos ? std::string::npos : eol - at).push_back('\n');
+      at = eol;
+    }
+    return mesh_space(comments);
+  }
+  std::string text = head.substr(0, std::min<std::size_t>(head.size(), 80)); // binary STL header
+  text.push_back('\n');
+  text.append(head, 0, head.find('\n'));                                      // ASCII STL's solid line
+  for (std::size_t at = 0; at < head.size();) {                              // OBJ comments
+    const std::size_t eol = std::min(head.find('\n', at), head.size());
+    if (head[at] == '#') text.append("\n").append(head, at, eol - at);
+    at = eol + 1;
+  }
+  return mesh_space(text);
 }
 
 Vec3 convert_space(const Vec3& p, Space from, Space to) {

@@ -77,6 +77,48 @@ TEST(Plan, MeshSpaceComesFromTheHeader) {
   expect_near(convert_space({1, 2, 3}, Space::RAS, Space::RAS), {1, 2, 3});
 }
 
+// The frame from a mesh file's start agrees with the header the full reader reports, for every format
+// and compressed, and for the example meshes.
+TEST(Plan, MeshFileSpaceFromTheFilesStart) {
+  const fs::path dir = scratch("mesh-space");
+  const TriangleMesh tet = st::test::make_icosphere(1.0, 0);
+  struct File {
+    std::string name, text;
+    Space expect;
+  } files[] = {
+      {"a.ply", "ply\nformat ascii 1.0\ncomment made by Slicer SPACE=RAS\nelement vertex 3\nproperty float x\n"
+                "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", Space::RAS},
+      {"b.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"
+                "comment SPACE=RAS after the header is data, not a header\n", Space::LPS},
+      {"c.obj", "# SPACE=RAS\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", Space::RAS},
+      {"d.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", Space::LPS},
+      {"e.stl", "solid bone SPACE=RAS\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+                "endloop\nendfacet\nendsolid bone\n", Space::RAS},
+  };
+  for (const File& f : files) {
+    const std::string path = write(dir / f.name, f.text);
+    EXPECT_EQ(mesh_file_space(path), f.expect) << f.name;
+    ReadReport report;
+    if (f.name != "b.ply") {
+      read_mesh(path, &report);
+      EXPECT_EQ(mesh_space(report.header), f.expect) << f.name;
+    }
+  }
+  write_stl(tet, (dir / "f.stl").string(), "3D Slicer output. SPACE=RAS");
+  EXPECT_EQ(mesh_file_space((dir / "f.stl").string()), Space::RAS);
+  write_stl(tet, (dir / "g.stl").string(), "3D Slicer output. SPACE=LPS");
+  EXPECT_EQ(mesh_file_space((dir / "g.stl").string()), Space::LPS);
+  for (const auto& entry : fs::directory_iterator(st::test::examples_dir() + "/meshes")) {
+    if (entry.path().extension() != ".gz") continue;
+    ReadReport report;
+    read_mesh(entry.path().string(), &report);
+    EXPECT_EQ(mesh_file_space(entry.path().string()), mesh_space(report.header)) << entry.path();
+  }
+  EXPECT_NE(error_of([&] { mesh_file_space((dir / "missing.stl").string()); }).find("cannot open"), std::string::npos);
+}
+
 TEST(Plan, SlicerMarkupsIntoAnLpsBone) {
   const Plan p = parse_markups(kMarkups, "plan.mrk.json", Space::LPS);
   // The curve was in RAS: x and y change sign; the undefined point is skipped and reported.

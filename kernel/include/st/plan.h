@@ -43,7 +43,9 @@ enum class Space { LPS, RAS };
 /// "SPACE=RAS" (any case), else LPS.
 Space mesh_space(std::string_view header);
 
-/// The frame of the mesh file at `path` (reads the file; throws InvalidInput as read_mesh does).
+/// The frame of the mesh file at `path` (STL, PLY, OBJ, also gzip-compressed) from its start only
+/// (the first 64 KiB, inflated): the header read_mesh reports, without reading the triangles. Throws
+/// InvalidInput for a file that cannot be opened or read.
 Space mesh_file_space(const std::string& path);
 
 /// `p` given in frame `from`, in frame `to`.
