@@ -1,11 +1,24 @@
 #include "convert.h"
 
+#include "st/aabb_tree.h"
 #include "st/mesh_io.h"
 #include "st/validate.h"
+
+#include <memory>
 
 namespace py = pybind11;
 using namespace st;
 using namespace st::py_convert;
+
+namespace {
+
+/// A mesh and its AABB tree, built once for many ray queries (the drawing's hidden-line test).
+struct RayCaster {
+  TriangleMesh mesh;
+  std::unique_ptr<AabbTree> tree;  // refers to mesh: built after it, never moved
+};
+
+} // namespace
 
 py::dict solid_dict(const SolidReport& r) {
   py::dict d;
@@ -78,4 +91,31 @@ void bind_mesh(py::module_& m) {
       },
       py::arg("points"), py::arg("vertices"), py::arg("triangles"),
       "Min/max/mean exact distance of points to a triangle surface, mm.");
+  py::class_<RayCaster>(m, "RayCaster",
+                        "A triangle mesh prepared for ray queries (AABB tree), e.g. hidden-line tests.")
+      .def(py::init([](const Points& v, const Faces& f) {
+             auto r = std::make_unique<RayCaster>();
+             r->mesh = to_mesh(v, f, "mesh");
+             r->tree = std::make_unique<AabbTree>(r->mesh);
+             return r;
+           }),
+           py::arg("vertices"), py::arg("triangles"))
+      .def(
+          "occluded",
+          [](const RayCaster& r, const Points& points, const py::object& direction, double tolerance) {
+            const std::vector<Vec3> p = to_points(points, "points");
+            const std::optional<Vec3> d = to_optional_point(direction, "direction");
+            if (!d || !(d->norm() > 0.0)) throw InvalidInput("direction: must be a non-zero vector");
+            const Vec3 unit = d->normalized();
+            py::array_t<bool> out(static_cast<py::ssize_t>(p.size()));
+            bool* o = out.mutable_data();
+            {
+              py::gil_scoped_release release;
+              for (std::size_t i = 0; i < p.size(); ++i) o[i] = r.tree->first_hit(p[i], unit, tolerance).has_value();
+            }
+            return out;
+          },
+          py::arg("points"), py::arg("direction"), py::arg("tolerance") = 0.0,
+          "Per point ((n, 3) array): does the mesh lie in front of it, i.e. does the ray from the point along "
+          "`direction` (towards the viewer) meet a facet farther than `tolerance` (mm)?");
 }

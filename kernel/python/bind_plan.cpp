@@ -92,6 +92,7 @@ void bind_plan(py::module_& m) {
         const Plan plan = read_plan(path, to_space(space));
         py::dict d;
         d["path"] = plan.path;
+        d["kind"] = plan.kind;
         d["boundary_points"] =
             plan.boundary_points.empty() ? py::object(py::none()) : py::object(from_points(plan.boundary_points));
         d["inside"] = plan.inside ? py::object(from_points({*plan.inside}).attr("reshape")(3)) : py::object(py::none());
@@ -103,7 +104,7 @@ void bind_plan(py::module_& m) {
       },
       py::arg("path"), py::arg("space") = "LPS",
       "Reads a plan: a case file, a 3D Slicer markups file (.mrk.json) or a CSV of axes, in the frame `space` of "
-      "the bone it goes on (\"LPS\" or \"RAS\", see mesh_file_space). Returns {path, boundary_points (n, 3) or None, "
+      "the bone it goes on (\"LPS\" or \"RAS\", see mesh_file_space). Returns {path, kind (\"case\", \"markups\", \"csv\"), boundary_points (n, 3) or None, "
       "inside, axes: [{name, source, entry, direction, depth, inner_radius, outer_radius, length, offset}] (sizes "
       "None where the plan gives none), warnings}; raises ValueError naming the file and the entry.");
   m.def(

@@ -228,6 +228,7 @@ Plan parse_markups(const std::string& text, const std::string& path, Space targe
   if (!doc.is_object()) r.fail("(top level)", "must be a JSON object (a 3D Slicer markups file)");
   Plan plan;
   plan.path = path;
+  plan.kind = "markups";
   if (!doc.contains("@schema")) plan.warnings.push_back(path + ": no \"@schema\"; read as a 3D Slicer markups file");
   const json& markups = r.required(doc, "markups", "markups");
   if (!markups.is_array()) r.fail("markups", "must be an array");
@@ -293,6 +294,7 @@ Plan read_markups(const std::string& path, Space target) {
 Plan parse_plan_csv(const std::string& text, const std::string& path, Space target) {
   Plan plan;
   plan.path = path;
+  plan.kind = "csv";
   std::optional<Space> file_space;
   std::vector<std::string> header; // column keys
   char delimiter = ',';
@@ -409,6 +411,7 @@ Plan read_plan_csv(const std::string& path, Space target) {
 Plan plan_of_case(const CaseFile& c) {
   Plan plan;
   plan.path = c.path;
+  plan.kind = "case";
   plan.boundary_points = c.boundary_points;
   plan.inside = c.inside;
   plan.warnings = c.warnings;

@@ -161,16 +161,17 @@ int plan(int argc, char** argv) {
   out["tubes"] = nlohmann::json::array();
   for (const st::PlanAxis& axis : p.axes) {
     nlohmann::json t = {{"name", axis.name}, {"entry", point_json(axis.entry)}, {"direction", point_json(axis.direction)}};
-    const auto size = [&](const char* key, const std::optional<double>& given, double preset) {
-      if (given) t[key] = *given;
-      else if (sizes) t[key] = preset;
-    };
-    size("inner_radius", axis.inner_radius, sizes ? sizes->inner_radius : 0.0);
-    size("outer_radius", axis.outer_radius, sizes ? sizes->outer_radius : 0.0);
-    size("length", axis.length, sizes ? sizes->length : 0.0);
-    size("offset", axis.offset, sizes ? sizes->offset : 0.0);
+    if (sizes || (axis.inner_radius && axis.outer_radius && axis.length)) {
+      const st::TubeSpec s = st::tube_from_axis(axis, sizes); // the sizes filled and checked
+      t.update({{"inner_radius", s.inner_radius}, {"outer_radius", s.outer_radius}, {"length", s.length},
+                {"offset", s.offset}});
+    } else { // what the plan gives; a preset completes it
+      for (const auto& [key, value] : {std::pair{"inner_radius", axis.inner_radius},
+                                       std::pair{"outer_radius", axis.outer_radius}, std::pair{"length", axis.length},
+                                       std::pair{"offset", axis.offset}})
+        if (value) t[key] = *value;
+    }
     if (axis.depth) t["depth"] = *axis.depth;
-    if (sizes || (axis.inner_radius && axis.outer_radius && axis.length)) st::tube_from_axis(axis, sizes); // checks
     out["tubes"].push_back(t);
   }
   out["space"] = space == st::Space::RAS ? "RAS" : "LPS";

@@ -22,7 +22,7 @@ import st_features
 from st_drawing import drill_protocol, make_drawing  # noqa: F401 (part of the API)
 
 __all__ = ["make_bone", "make_boundary", "make_template", "make_tube", "make_guide", "make_final", "export",
-           "load_case", "save_case", "load_plan", "sleeve_presets", "find_guide", "inspect", "thickness_colour", "make_drawing", "drill_protocol"]
+           "load_case", "save_case", "load_plan", "sleeve_presets", "find_guide", "tree_of", "inspect", "thickness_colour", "make_drawing", "drill_protocol"]
 
 
 def _doc(doc):
@@ -259,7 +259,7 @@ def _kind(obj):
     return getattr(getattr(obj, "Proxy", None), "kind", "Bone" if getattr(obj, "TypeId", "") == "Mesh::Feature" else "")
 
 
-def _built_on(obj):
+def tree_of(obj):
     """(guide, template, boundary, bone) built on `obj` (any of them), the latest of each where a bone
     or boundary carries several; None for what does not exist yet."""
     kind = _kind(obj)
@@ -282,7 +282,7 @@ def _built_on(obj):
 
 def find_guide(obj):
     """The guide built on `obj` (a guide, template, boundary or bone), or None."""
-    return _built_on(obj)[0] if obj is not None else None
+    return tree_of(obj)[0] if obj is not None else None
 
 
 def sleeve_presets():
@@ -320,24 +320,24 @@ def load_plan(path, target=None, preset=None, thickness=None):
     the plan lacks from `preset`. One undo step; returns the guide (or the boundary when there are no
     axes and no template)."""
     k = st_bridge.kernel()
-    with open(path, "rb") as f:
-        head = f.read(4096).lstrip(b"\xef\xbb\xbf \t\r\n")
-    if head.startswith(b"{") and b'"format"' in head and b"surgical-template-case" in head:
-        return load_case(path)
     doc = target.Document if target is not None else App.ActiveDocument
-    if doc is None:
-        raise ValueError(f"{path}: a markups or CSV plan needs a document with a bone to go on")
-    if target is None:
+    if target is None and doc is not None:
         guides = [o for o in doc.Objects if _kind(o) == "Guide"]
         bones = [o for o in doc.Objects if _kind(o) == "Bone"]
         target = guides[0] if guides else bones[0] if bones else None
-        if target is None:
-            raise ValueError(f"{path}: the document {doc.Label} has no bone for the plan")
-    kind = _kind(target)
-    if kind not in ("Guide", "Template", "Boundary", "Bone"):
-        raise ValueError(f"{target.Label}: a plan goes on a guide, template, boundary or bone, not a {kind or target.TypeId}")
-    guide, shell, boundary, bone = _built_on(target)
+    guide = shell = boundary = bone = None
+    if target is not None:
+        kind = _kind(target)
+        if kind not in ("Guide", "Template", "Boundary", "Bone"):
+            raise ValueError(f"{target.Label}: a plan goes on a guide, template, boundary or bone, "
+                             f"not a {kind or target.TypeId}")
+        guide, shell, boundary, bone = tree_of(target)
     plan = k.read_plan(path, getattr(bone, "CoordinateSystem", "LPS"))
+    if plan["kind"] == "case":
+        return load_case(path)
+    if bone is None:
+        raise ValueError(f"{path}: a markups or CSV plan needs a bone to go on"
+                         + (f"; the document {doc.Label} has none" if doc is not None else ""))
     for w in plan["warnings"]:
         App.Console.PrintWarning(f"Surgical Template: {w}\n")
     sizes = _preset(preset) if preset is not None else None

@@ -91,15 +91,12 @@ def ask_preset(axes):
 
 def import_plan(path, target, choose_preset):
     """Imports a plan through recorded code; asks `choose_preset(axes)` when axes lack sizes."""
+    import SurgicalTemplate
     preset = None
     try:
-        bone = target
-        while bone is not None and getattr(getattr(bone, "Proxy", None), "kind", "Bone") != "Bone":
-            bone = {"Guide": lambda o: o.Shell, "Template": lambda o: o.Boundary,
-                    "Boundary": lambda o: o.Bone}[bone.Proxy.kind](bone)
-        space = getattr(bone, "CoordinateSystem", "LPS") if bone is not None else "LPS"
-        plan = st_bridge.kernel().read_plan(path, space)
-    except (ValueError, RuntimeError, KeyError) as e:
+        bone = SurgicalTemplate.tree_of(target)[3] if target is not None else None
+        plan = st_bridge.kernel().read_plan(path, getattr(bone, "CoordinateSystem", "LPS"))
+    except (ValueError, RuntimeError) as e:
         App.Console.PrintError(f"Surgical Template: Import plan failed: {e}\n")
         QtGui.QMessageBox.warning(Gui.getMainWindow(), "Surgical Template", f"Import plan failed:\n{e}")
         return False
@@ -225,7 +222,7 @@ class AddTube(_Command):
         import SurgicalTemplate
         chosen = (selected("Guide") or selected("Template") or selected("Boundary") or selected("Bone") or [None])[0]
         if chosen is not None:
-            guide, _, _, bone = SurgicalTemplate._built_on(chosen)
+            guide, _, _, bone = SurgicalTemplate.tree_of(chosen)
         else:
             bones = [o for o in App.ActiveDocument.Objects if o.TypeId == "Mesh::Feature"]
             guide, bone = None, bones[-1] if bones else None

@@ -204,8 +204,7 @@ class _LineModel:
 
     def outlines(self, d, skip):
         """Contour segments where the corner-normal field turns from the viewer (direction d points to
-        the viewer): points (k,2,3), chaining keys (k,2) (edge ids), and per segment the faces that
-        cannot hide it (its face and the two across its ends)."""
+        the viewer): points (k,2,3) and chaining keys (k,2) (edge ids)."""
         F, V = self.F, self.V
         g = (self.corner_normals @ d).reshape(-1, 3)
         s = g > 0
@@ -221,80 +220,19 @@ class _LineModel:
         pts, keys = np.stack(pts, axis=1), np.stack(keys, axis=1)
         pick = np.argsort(keys < 0, axis=1, kind="stable")[:, :2]   # the two edges the contour crosses
         rows = np.arange(len(faces))[:, None]
-        seg_keys = keys[rows, pick]
-        across = self.edge_faces[seg_keys]
-        across = np.where(across[:, :, 0] == faces[:, None], across[:, :, 1], across[:, :, 0])
-        return pts[rows, pick], seg_keys, np.concatenate([faces[:, None], across], axis=1)
+        return pts[rows, pick], keys[rows, pick]
 
     def creases(self, d, skip):
         """Sharp edges (dihedral angle above the crease angle, or not shared by two faces) that are not
         between two faces turned away from the viewer, nor between two faces in `skip`: points (k,2,3),
-        chaining keys (k,2) (vertex ids), faces (k,2)."""
+        chaining keys (k,2) (vertex ids)."""
         fa, fb = self.edge_faces[:, 0], self.edge_faces[:, 1]
         na, nb = self.normals[fa], self.normals[fb]
         sharp = ~self.edge_manifold | (np.einsum("ij,ij->i", na, nb) < self.cos_crease)
         facing = (na @ d > 0) | (nb @ d > 0) | ~self.edge_manifold
         e = np.nonzero(sharp & facing & ~(skip[fa] & skip[fb]))[0]
         ev = self.edge_vertices[e]
-        return self.V[ev], ev, np.stack([fa[e], fb[e]], axis=1)
-
-
-class _Occluder:
-    """Hidden-line test for one view: a point is hidden when a facet of the mesh lies in front of it
-    (towards the viewer) at its place in the view by more than a tolerance. Facets are binned in a grid
-    over the view plane; each query tests the facets of its cell."""
-
-    def __init__(self, V, F, d, x, cell):
-        self.frame = np.stack([x, np.cross(d, x), d])          # rows: view x, view y, depth (to the viewer)
-        P = V @ self.frame.T
-        a, b, c = P[F[:, 0]], P[F[:, 1]], P[F[:, 2]]
-        e1, e2 = b[:, :2] - a[:, :2], c[:, :2] - a[:, :2]
-        det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
-        ok = np.abs(det) > 1e-14                                # facets seen edge-on hide nothing
-        self.tri = np.nonzero(ok)[0]
-        a, b, c, e1, e2, det = a[ok], b[ok], c[ok], e1[ok], e2[ok], det[ok]
-        self.origin = a
-        inverse = np.stack([np.stack([e2[:, 1], -e2[:, 0]], 1), np.stack([-e1[:, 1], e1[:, 0]], 1)], 1)
-        self.inv = inverse / det[:, None, None]          # view (u, v) -> barycentric (b, c) of each facet
-        self.dz = np.stack([b[:, 2] - a[:, 2], c[:, 2] - a[:, 2]], 1)
-        lo = np.minimum(np.minimum(a, b), c)[:, :2]
-        hi = np.maximum(np.maximum(a, b), c)[:, :2]
-        self.cell = cell
-        self.lo = (lo.min(axis=0) if len(lo) else np.zeros(2)) - cell
-        i0 = np.floor((lo - self.lo) / cell).astype(np.int64)
-        i1 = np.floor((hi - self.lo) / cell).astype(np.int64)
-        self.nx = int(i1[:, 0].max()) + 2 if len(i1) else 1
-        self.ny = int(i1[:, 1].max()) + 2 if len(i1) else 1
-        wide, high = i1[:, 0] - i0[:, 0] + 1, i1[:, 1] - i0[:, 1] + 1
-        count = wide * high
-        t = np.repeat(np.arange(len(count)), count)
-        j = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-        cid = (i0[t, 0] + j // high[t]) * self.ny + i0[t, 1] + j % high[t]
-        order = np.argsort(cid, kind="stable")
-        self.cell_tris = t[order]
-        self.cell_start = np.searchsorted(cid[order], np.arange(self.nx * self.ny + 1))
-
-    def hidden(self, points, exclude=None, tolerance=0.05, chunk=20000):
-        """Per point (k,3): hidden? `exclude` (k,j): facet ids that do not hide that point."""
-        P = np.asarray(points, dtype=np.float64).reshape(-1, 3) @ self.frame.T
-        out = np.zeros(len(P), dtype=bool)
-        for s in range(0, len(P), chunk):
-            q = P[s:s + chunk]
-            ij = np.floor((q[:, :2] - self.lo) / self.cell).astype(np.int64)
-            inside = (ij[:, 0] >= 0) & (ij[:, 0] < self.nx) & (ij[:, 1] >= 0) & (ij[:, 1] < self.ny)
-            cid = np.where(inside, ij[:, 0] * self.ny + ij[:, 1], 0)
-            b0 = self.cell_start[cid]
-            count = np.where(inside, self.cell_start[cid + 1] - b0, 0)
-            qi = np.repeat(np.arange(len(q)), count)
-            within = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-            ti = self.cell_tris[np.repeat(b0, count) + within]
-            lam = np.einsum("kij,kj->ki", self.inv[ti], q[qi, :2] - self.origin[ti, :2])
-            hit = (lam[:, 0] >= -1e-9) & (lam[:, 1] >= -1e-9) & (lam.sum(axis=1) <= 1.0 + 1e-9)
-            hit &= self.origin[ti, 2] + np.einsum("ki,ki->k", lam, self.dz[ti]) > q[qi, 2] + tolerance
-            if exclude is not None:
-                hit &= ~(exclude[s:s + chunk][qi] == self.tri[ti][:, None]).any(axis=1)
-            out[s:s + chunk] = np.bincount(qi[hit], minlength=len(q)) > 0
-        return out
+        return self.V[ev], ev
 
 
 def _chains(keys):
@@ -404,8 +342,9 @@ class _Sleeve:
         """The point(s) on the axis at distance(s) s outward from the entry."""
         return self.entry - np.multiply.outer(s, self.axis)
 
-    def edges(self, d, occluder, tolerance):
-        """The sleeve's visible exact edges in a view: cylinder outlines (lines) and top rims (circles)."""
+    def edges(self, d, hidden):
+        """The sleeve's visible exact edges in a view: cylinder outlines (lines) and top rims (circles).
+        hidden(points): which points the guide hides in this view."""
         out = []
         side = np.cross(self.axis, d)
         if np.linalg.norm(side) > 1e-6:
@@ -414,7 +353,7 @@ class _Sleeve:
                 s = np.linspace(s0, self.top, max(8, int((self.top - s0) / 0.05)))
                 for sign in (1.0, -1.0):
                     p = self.point(s) + side * (sign * radius)
-                    for run in _runs(~occluder.hidden(p, tolerance=tolerance)):
+                    for run in _runs(~hidden(p)):
                         a, b = p[run[0]], p[run[-1]]
                         if np.linalg.norm(b - a) > 1e-6:
                             out.append(Part.LineSegment(App.Vector(*a), App.Vector(*b)).toShape())
@@ -425,7 +364,7 @@ class _Sleeve:
         phi = np.linspace(0.0, 2.0 * math.pi, 181)[:-1]
         for radius in (self.R, self.r):
             p = c + radius * (np.outer(np.cos(phi), u) + np.outer(np.sin(phi), v))
-            seen = ~occluder.hidden(p, tolerance=tolerance)
+            seen = ~hidden(p)
             if seen.all():
                 out.append(Part.makeCircle(radius, App.Vector(*c), App.Vector(*(-self.axis))))
                 continue
@@ -461,17 +400,16 @@ def guide_lines(guide, views, arrays=None):
         skip |= s.faces(centroids, model.normals)
     # Outlines lie within a triangle of the true contour: the tolerance of the hidden-line test.
     mesh_tol = 0.02 + 0.5 * model.edge_scale
+    caster = st_bridge.kernel().RayCaster(model.V, model.F)  # hidden = a facet in front, towards the viewer
     out = []
     for direction, xdir in views:
         d = np.asarray(direction, dtype=np.float64)
         x = np.asarray(xdir, dtype=np.float64)
         d, x = d / np.linalg.norm(d), x / np.linalg.norm(x)
-        occluder = _Occluder(model.V, model.F, d, x, 3.0 * model.edge_scale)
         polylines = []
-        for pts, keys, faces in (model.outlines(d, skip), model.creases(d, skip)):
+        for pts, keys in (model.outlines(d, skip), model.creases(d, skip)):
             if len(pts):
-                hidden = occluder.hidden(pts.mean(axis=1), faces, mesh_tol)
-                polylines += _visible_polylines(pts, keys, hidden)
+                polylines += _visible_polylines(pts, keys, caster.occluded(pts.mean(axis=1), d, mesh_tol))
         edges = []
         for p in polylines:
             p = _simplify(p, 0.01)
@@ -480,7 +418,7 @@ def guide_lines(guide, views, arrays=None):
             else:
                 edges.append(Part.makePolygon([App.Vector(*q) for q in p]))
         for s in sleeves:
-            edges += s.edges(d, occluder, 0.05 + tol)
+            edges += s.edges(d, lambda p: caster.occluded(p, d, 0.05 + tol))
         out.append(Part.makeCompound(edges))
     return out
 

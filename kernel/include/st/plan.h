@@ -63,6 +63,7 @@ struct PlanAxis {
 
 struct Plan {
   std::string path;
+  std::string kind;                   ///< what the file was: "case", "markups" or "csv"
   std::vector<Vec3> boundary_points;  ///< empty when the plan has no boundary
   std::optional<Vec3> inside;
   std::vector<PlanAxis> axes;
