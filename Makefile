@@ -4,7 +4,7 @@ JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3
 DEMO_CASE ?= examples/cases/maxilla-implants.json
 
-.PHONY: all deps build install test test-main test-sanitize test-fuzz demo examples bench bench-references clean
+.PHONY: all deps build install test test-main test-sanitize test-fuzz test-setup demo examples bench bench-references clean
 
 all: build
 
@@ -29,7 +29,7 @@ install: build
 
 # Everything CI runs: the Release tests (GoogleTest, pytest), the kernel tests under ASan+UBSan, and
 # each file-reader and case-parser fuzzer for a bounded time.
-test: test-main test-sanitize test-fuzz
+test: test-main test-sanitize test-fuzz test-setup
 
 test-main: build
 	ctest --test-dir $(BUILD) -j$(JOBS) --output-on-failure
@@ -45,6 +45,12 @@ test-fuzz: deps
 	  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer"
 	cmake --build build-fuzz -j$(JOBS) --target fuzz_stl fuzz_ply fuzz_obj fuzz_gz fuzz_case fuzz_plan
 	ctest --test-dir build-fuzz -j$(JOBS) --output-on-failure -R fuzz_
+
+# The set-up list is complete: every file under /usr that the three build trees and the Python code
+# used comes from a package of scripts/packages.txt or one it depends on (and each listed package is
+# needed). Last, after every build tree is built.
+test-setup: deps
+	ST_BUILD_DIRS="$(BUILD) build-asan build-fuzz" /usr/bin/python3 -m pytest -q tests/setup
 
 # The demo: the tool designs the case; then the workbench (installed in a private FreeCAD user folder
 # under out/, so your own FreeCAD is untouched) builds its parametric document and documentation:

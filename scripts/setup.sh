@@ -3,14 +3,13 @@
 # not root. Called by `make deps` (and so by `make demo` and `make test`).
 set -euo pipefail
 
-packages=(
-  cmake g++ make pkg-config zlib1g-dev
-  libeigen3-dev pybind11-dev nlohmann-json3-dev libgtest-dev
-  python3-dev python3-numpy python3-pytest
-  libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
-  freecad-python3 qtbase5-dev xvfb xauth poppler-utils
-  clang libclang-rt-14-dev
-)
+# The list: scripts/packages.txt (one package a line, '#' comments), checked complete by
+# tests/setup/test_setup_complete.py.
+packages=()
+while read -r line; do
+  line="${line%%#*}"
+  for p in $line; do packages+=("$p"); done
+done < "$(dirname "$0")/packages.txt"
 
 # Optional extras (e.g. the benchmark's reference libraries), space separated.
 read -r -a extra <<< "${ST_EXTRA_PACKAGES:-}"

@@ -1,4 +1,5 @@
 #include "st/case_file.h"
+#include "detail/format.h"
 
 #include "detail/json_reader.h"
 #include "st/errors.h"
@@ -80,14 +81,14 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
   if (!tpl.is_object()) r.fail("template", "must be an object");
   r.unknown_keys(tpl, {"thickness", "clearance", "resolution", "sampling_step"}, "template.", c.warnings);
   c.thickness = r.number(r.required(tpl, "thickness", "template.thickness"), "template.thickness");
-  if (!(c.thickness > 0.0)) r.fail("template.thickness", "must be > 0, got " + std::to_string(c.thickness));
+  if (!(c.thickness > 0.0)) r.fail("template.thickness", "must be > 0, got " + detail::number(c.thickness));
   if (tpl.contains("clearance")) {
     c.clearance = r.number(tpl["clearance"], "template.clearance");
-    if (c.clearance < 0.0) r.fail("template.clearance", "must be >= 0, got " + std::to_string(c.clearance));
+    if (c.clearance < 0.0) r.fail("template.clearance", "must be >= 0, got " + detail::number(c.clearance));
   }
   if (tpl.contains("resolution")) {
     c.resolution = r.number(tpl["resolution"], "template.resolution");
-    if (!(*c.resolution > 0.0)) r.fail("template.resolution", "must be > 0, got " + std::to_string(*c.resolution));
+    if (!(*c.resolution > 0.0)) r.fail("template.resolution", "must be > 0, got " + detail::number(*c.resolution));
   }
   if (tpl.contains("sampling_step")) {
     const json& s = tpl["sampling_step"];

@@ -1,4 +1,5 @@
 #include "st/decimate.h"
+#include "detail/format.h"
 
 #include "st/errors.h"
 #include "st/topology.h"
@@ -577,16 +578,16 @@ DecimateResult Decimator::extract() const {
 DecimateResult decimate(const TriangleMesh& mesh, const DecimateOptions& options) {
   check_mesh(mesh, "decimate");
   if (!(options.max_error >= 0.0))
-    throw InvalidInput("decimate: max_error must be >= 0, got " + std::to_string(options.max_error));
+    throw InvalidInput("decimate: max_error must be >= 0, got " + detail::number(options.max_error));
   if (!(options.target_edge_length >= 0.0) || std::isinf(options.target_edge_length))
     throw InvalidInput("decimate: target_edge_length must be finite and >= 0, got " +
-                       std::to_string(options.target_edge_length));
+                       detail::number(options.target_edge_length));
   if (!(options.min_triangle_quality >= 0.0 && options.min_triangle_quality <= 1.0))
     throw InvalidInput("decimate: min_triangle_quality must be in [0, 1], got " +
-                       std::to_string(options.min_triangle_quality));
+                       detail::number(options.min_triangle_quality));
   if (!(options.max_normal_change_deg > 0.0 && options.max_normal_change_deg <= 180.0))
     throw InvalidInput("decimate: max_normal_change_deg must be in (0, 180], got " +
-                       std::to_string(options.max_normal_change_deg));
+                       detail::number(options.max_normal_change_deg));
   if (mesh.triangles.size() >= kInvalidIndex / 3)
     throw InvalidInput("decimate: too many triangles (" + std::to_string(mesh.triangles.size()) + ")");
   return Decimator(mesh, options).run();

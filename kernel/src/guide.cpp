@@ -176,7 +176,7 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
                       const std::vector<TubeSpec>& tubes, const GuideOptions& options) {
   const auto t0 = Clock::now();
   if (!(options.chordal_tolerance > 0.0) || !(options.chordal_tolerance < 1.0))
-    throw InvalidInput("chordal tolerance: must be in (0, 1) mm, got " + std::to_string(options.chordal_tolerance));
+    throw InvalidInput("chordal tolerance: must be in (0, 1) mm, got " + detail::number(options.chordal_tolerance));
   if (inner_faces > shell.face_count()) throw InvalidInput("inner faces: more than the shell has");
   GuideResult result;
   result.mesh = shell;

@@ -1,8 +1,10 @@
 #include "st/mesh_io.h"
 
 #include "detail/gzip.h"
+#include "detail/input_file.h"
 
 #include "st/errors.h"
+#include "st/tolerances.h"
 
 #include <Eigen/Geometry>
 
@@ -1054,36 +1056,18 @@ struct FileCloser {
 };
 using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
 
-/// The whole file in memory, read in one go.
+/// The whole file in memory, read in one go. Only regular files under the size limit are read
+/// (detail/input_file.h): a device or a FIFO would be read forever or block.
 FileBytes read_file(const std::string& path) {
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (ec) fail(path, "cannot open: " + ec.message());
-  if (fs::is_directory(status)) fail(path, "cannot open: " + system_reason(EISDIR));
+  const std::uintmax_t size = detail::check_input_file(path, "mesh file", tol::kMaxMeshFileBytes);
   errno = 0;
   FilePtr file(std::fopen(path.c_str(), "rb"));
   if (!file) fail(path, "cannot open: " + system_reason(errno));
-  std::size_t capacity = 1 << 16;
-  if (fs::is_regular_file(status)) {
-    const std::uintmax_t size = fs::file_size(path, ec);
-    if (!ec) capacity = static_cast<std::size_t>(size) + 1;  // +1 to see the end in one read
-  }
   FileBytes bytes;
-  bytes.data = std::make_unique_for_overwrite<char[]>(capacity);
-  for (;;) {
-    const std::size_t got =
-        std::fread(bytes.data.get() + bytes.size, 1, capacity - bytes.size, file.get());
-    bytes.size += got;
-    if (bytes.size < capacity) {
-      if (std::ferror(file.get())) fail(path, "cannot read: " + system_reason(errno));
-      break;
-    }
-    // The file grew, or its size is unknown: read on into a larger buffer.
-    auto larger = std::make_unique_for_overwrite<char[]>(2 * capacity);
-    std::memcpy(larger.get(), bytes.data.get(), bytes.size);
-    bytes.data = std::move(larger);
-    capacity *= 2;
-  }
+  bytes.data = std::make_unique_for_overwrite<char[]>(static_cast<std::size_t>(size) + 1);
+  bytes.size = std::fread(bytes.data.get(), 1, static_cast<std::size_t>(size), file.get());
+  if (std::ferror(file.get())) fail(path, "cannot read: " + system_reason(errno));
+  if (bytes.size != size) fail(path, "cannot read: the file changed size while being read");
   return bytes;
 }
 

@@ -1,7 +1,9 @@
 #include "st/offset.h"
+#include "detail/format.h"
 
 #include "detail/parallel.h"
 #include "st/errors.h"
+#include "st/tolerances.h"
 
 #include <algorithm>
 #include <array>
@@ -1530,13 +1532,13 @@ std::string format_budget_error(double h, double nodes, double budget) {
 OffsetResult offset_surface(const TriangleMesh& surface, const OffsetOptions& options) {
   const double distance = options.distance;
   if (!std::isfinite(distance) || distance <= 0.0)
-    throw InvalidInput("offset: the distance must be finite and > 0 mm, got " + std::to_string(distance));
+    throw InvalidInput("offset: the distance must be finite and > 0 mm, got " + detail::number(distance));
   if (!std::isfinite(options.cell_size) || options.cell_size < 0.0)
     throw InvalidInput("offset: the cell size must be finite and >= 0 mm (0 = automatic), got " +
-                       std::to_string(options.cell_size));
-  if (options.cell_size > 0.5 * distance)
-    throw InvalidInput("offset: the cell size " + std::to_string(options.cell_size) +
-                       " mm is over half the distance " + std::to_string(distance) + " mm");
+                       detail::number(options.cell_size));
+  if (options.cell_size > tol::kMaxCellSizePerOffset * distance)
+    throw InvalidInput("offset: the cell size " + detail::mm(options.cell_size) + " is over half the distance " +
+                       detail::mm(distance));
   if (std::isnan(options.max_cells) || options.max_cells <= 0.0)
     throw InvalidInput("offset: max_cells must be > 0");
   if (surface.empty()) throw InvalidInput("offset: the surface has no triangles");

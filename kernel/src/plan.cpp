@@ -1,7 +1,9 @@
 #include "st/plan.h"
 
+#include "detail/input_file.h"
 #include "detail/json_reader.h"
 #include "st/errors.h"
+#include "st/tolerances.h"
 #include "st/sleeve_presets_data.h"
 
 #include <algorithm>
@@ -189,6 +191,7 @@ Space mesh_file_space(const std::string& path) {
   // Only the file's start (inflated when it is gzip; zlib reads plain files as they are): where a mesh
   // says its frame. A binary STL's 80-byte header, an ASCII STL's "solid" line, PLY "comment" lines
   // before end_header, OBJ "#" lines near the top.
+  detail::check_input_file(path, "mesh file", tol::kMaxMeshFileBytes);
   gzFile file = gzopen(path.c_str(), "rb");
   if (file == nullptr) throw InvalidInput(path + ": cannot open the mesh file (" + std::strerror(errno) + ")");
   std::string head(64 * 1024, '\0');

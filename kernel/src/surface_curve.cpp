@@ -373,7 +373,7 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
     }
     if (chosen == kInvalidIndex)
       throw InvalidInput(options.name + ": control point " + std::to_string(i) + " " + where(control_points[i]) +
-                         " is farther than " + std::to_string(options.max_snap_distance) +
+                         " is farther than " + detail::number(options.max_snap_distance) +
                          " mm from the surface (only small loose pieces, if anything, are that close)");
     const Triangle& t = mesh.triangles[chosen];
     curve.control_points.push_back(

@@ -4,6 +4,7 @@
 #include "st/cut.h"
 #include "st/decimate.h"
 #include "detail/format.h"
+#include "st/tolerances.h"
 #include "st/errors.h"
 #include "st/offset.h"
 #include "st/ruled_surface.h"
@@ -29,20 +30,21 @@ double seconds_since(Clock::time_point t0) {
 void check_options(const TemplateOptions& o) {
   auto finite_positive = [](double v) { return std::isfinite(v) && v > 0.0; };
   if (!finite_positive(o.thickness))
-    throw InvalidInput("template.thickness must be a finite number > 0 mm, got " + std::to_string(o.thickness));
+    throw InvalidInput("template.thickness must be a finite number > 0 mm, got " + detail::number(o.thickness));
   if (o.thickness > 50.0)
-    throw InvalidInput("template.thickness " + std::to_string(o.thickness) + " mm is absurd (over 50 mm)");
+    throw InvalidInput("template.thickness " + detail::number(o.thickness) + " mm is absurd (over 50 mm)");
   if (!std::isfinite(o.clearance) || o.clearance < 0.0)
-    throw InvalidInput("template.clearance must be a finite number >= 0 mm, got " + std::to_string(o.clearance));
+    throw InvalidInput("template.clearance must be a finite number >= 0 mm, got " + detail::number(o.clearance));
   if (o.clearance > 5.0)
-    throw InvalidInput("template.clearance " + std::to_string(o.clearance) + " mm is absurd (over 5 mm)");
+    throw InvalidInput("template.clearance " + detail::number(o.clearance) + " mm is absurd (over 5 mm)");
   if (!std::isfinite(o.resolution) || o.resolution < 0.0)
-    throw InvalidInput("template.resolution must be a finite number > 0 mm, got " + std::to_string(o.resolution));
-  if (o.resolution > o.thickness)
-    throw InvalidInput("template.resolution " + std::to_string(o.resolution) +
-                       " mm is coarser than the thickness; use at most thickness / 4");
+    throw InvalidInput("template.resolution must be a finite number > 0 mm, got " + detail::number(o.resolution));
+  if (o.resolution > tol::kMaxCellSizePerOffset * o.thickness)
+    throw InvalidInput("template.resolution " + detail::mm(o.resolution) + " is over half the thickness " +
+                       detail::mm(o.thickness) + "; use at most " +
+                       detail::mm(tol::kMaxCellSizePerOffset * o.thickness) + " (thickness / 2)");
   if (o.sampling_step < 0)
-    throw InvalidInput("template.sampling_step must be >= 1, got " + std::to_string(o.sampling_step));
+    throw InvalidInput("template.sampling_step must be >= 1, got " + detail::number(o.sampling_step));
   if (o.inside && !o.inside->allFinite()) throw InvalidInput("boundary.inside has a non-finite coordinate");
 }
 

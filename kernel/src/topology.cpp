@@ -1,4 +1,5 @@
 #include "st/topology.h"
+#include "detail/format.h"
 
 #include "st/errors.h"
 
@@ -57,8 +58,8 @@ std::vector<std::vector<Index>> border_loops(const TriangleMesh& mesh,
     if (outgoing[v] != kInvalidIndex) {
       const Vec3& p = mesh.positions[v];
       throw GeometryError("mesh border is not simple at vertex " + std::to_string(v) + " (" +
-                          std::to_string(p.x()) + ", " + std::to_string(p.y()) + ", " +
-                          std::to_string(p.z()) + "): two border fans meet there");
+                          detail::number(p.x()) + ", " + detail::number(p.y()) + ", " +
+                          detail::number(p.z()) + "): two border fans meet there");
     }
     outgoing[v] = h;
   }

@@ -2,6 +2,7 @@
 
 #include "st/errors.h"
 
+#include <sys/stat.h>
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
@@ -586,6 +587,17 @@ TEST(MeshIo, MissingFileNamesPathAndReason) {
   fs::remove(path);
   expect_invalid([&] { st::read_mesh(path); }, {path, "No such file"});
   expect_invalid([] { st::read_mesh(output_dir().string()); }, {"directory"});
+}
+
+TEST(MeshIo, DevicesAndFifosAreRefusedAtOnce) {
+  // A device or a FIFO would be read forever (/dev/zero) or block (a FIFO without a writer): refused
+  // before anything is opened, naming the path and what it is.
+  expect_invalid([] { st::read_mesh("/dev/zero"); }, {"/dev/zero", "character device", "not a regular file"});
+  const std::string fifo = temp_path("bone_fifo.stl");
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  expect_invalid([&] { st::read_mesh(fifo); }, {fifo, "FIFO"});
+  fs::remove(fifo);
 }
 
 TEST(MeshIo, FormatFromContentWhenExtensionUnknown) {

@@ -88,6 +88,31 @@ def test_corrupt_bone_mesh_is_refused(tmp_path, content):
     assert not out.exists()
 
 
+@pytest.mark.parametrize("kind", ["device", "fifo", "directory"])
+def test_bone_that_is_not_a_regular_file_is_refused_at_once(tmp_path, kind):
+    # /dev/zero was read forever, a FIFO blocked: refused before reading, naming the path.
+    bone = {"device": "/dev/zero", "fifo": str(tmp_path / "bone.stl"), "directory": str(tmp_path)}[kind]
+    if kind == "fifo":
+        os.mkfifo(bone)
+    out = tmp_path / "t.stl"
+    p = subprocess.run([TOOL, "design", str(write_case(tmp_path, bone=bone)), "-o", str(out)],
+                       capture_output=True, text=True, timeout=20)
+    assert p.returncode == 2, p.stderr
+    assert bone in p.stderr and "not a regular file" in p.stderr or "directory" in p.stderr
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("template, expected", [
+    ({"thickness": 1e9}, "template.thickness 1e+09 mm is absurd"),
+    ({"thickness": 3, "resolution": 2.0}, "2 mm"),
+])
+def test_numbers_in_messages_read_as_a_person_writes_them(tmp_path, template, expected):
+    p = run("design", str(write_case(tmp_path, template=template)), "-o", str(tmp_path / "t.stl"))
+    assert p.returncode == 2, p.stderr
+    assert expected in p.stderr
+    assert "000000" not in p.stderr
+
+
 def test_missing_case_file(tmp_path):
     p = run("design", str(tmp_path / "nope.json"))
     assert p.returncode == 2

@@ -25,7 +25,19 @@ inline constexpr double kIsoValueMargin = 1e-2;
 /// Default largest distance of a control point from the surface before it is refused, mm.
 inline constexpr double kMaxSnapDistance_mm = 5.0;
 
+/// Largest cell size of the distance field as a fraction of the offset distance (the template's
+/// thickness): a coarser grid cannot resolve the offset surface. The one limit of the resolution.
+inline constexpr double kMaxCellSizePerOffset = 0.5;
+
 /// Largest number of distance-field cells a design may use before it is refused (memory budget).
 inline constexpr double kMaxFieldCells = 6.0e7;
+
+/// Largest mesh file read, bytes (2 GiB: a binary STL of about 43 million triangles). Larger files,
+/// and anything that is not a regular file (a directory, a device such as /dev/zero, a FIFO), are
+/// refused before reading.
+inline constexpr unsigned long long kMaxMeshFileBytes = 2ull << 30;
+
+/// Largest case, plan or catalogue file read, bytes (64 MiB).
+inline constexpr unsigned long long kMaxTextFileBytes = 64ull << 20;
 
 } // namespace st::tol

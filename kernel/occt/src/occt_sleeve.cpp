@@ -1,5 +1,6 @@
 #include "st/occt_sleeve.h"
 
+#include "detail/format.h"
 #include "st/errors.h"
 
 #include <BRepBuilderAPI_Copy.hxx>
@@ -113,7 +114,7 @@ void require_closed_outward(const TriangleMesh& mesh) {
   }
   const double volume = signed_volume(mesh);
   if (!(volume > 0.0))
-    throw GeometryError("tessellate_shape: the welded mesh encloses a volume of " + std::to_string(volume) +
+    throw GeometryError("tessellate_shape: the welded mesh encloses a volume of " + detail::number(volume) +
                         " mm^3, not a positive one (is the solid inside out?)");
 }
 
@@ -124,7 +125,7 @@ TopoDS_Shape make_cylinder_shape(const Cylinder& c) {
     throw InvalidInput("make_cylinder_shape: base and axis must be finite, the axis non-zero");
   if (!std::isfinite(c.radius) || !(c.radius > 0.0) || !std::isfinite(c.height) || !(c.height > 0.0))
     throw InvalidInput("make_cylinder_shape: radius and height must be finite and > 0 (radius " +
-                       std::to_string(c.radius) + ", height " + std::to_string(c.height) + ")");
+                       detail::number(c.radius) + ", height " + detail::number(c.height) + ")");
   const Vec3 axis = c.axis.normalized();
   Vec3 u, v;
   orthonormal_frame(axis, u, v);

@@ -3,6 +3,7 @@
 
 #include "st/mesh.h"
 
+#include <cstdio>
 #include <sstream>
 #include <string>
 
@@ -16,12 +17,15 @@ inline std::string where(const Vec3& p) {
   return s.str();
 }
 
-/// "1.25 mm": a length for messages.
-inline std::string mm(double value) {
-  std::ostringstream s;
-  s.precision(2);
-  s << std::fixed << value << " mm";
-  return s.str();
+/// A number as a person writes it: at most six significant digits, no trailing zeros, an exponent
+/// only for very large or small values ("2", "0.25", "1e+09", "nan").
+inline std::string number(double value) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", value);
+  return buf;
 }
+
+/// "1.25 mm": a length for messages.
+inline std::string mm(double value) { return number(value) + " mm"; }
 
 } // namespace st::detail

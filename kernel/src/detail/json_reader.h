@@ -2,8 +2,10 @@
 // Typed access to JSON documents with errors that name the file and the key (case files, 3D
 // Slicer markups, sleeve presets). Every failure throws InvalidInput("<file>: <key>: <why>").
 
+#include "input_file.h"
 #include "st/errors.h"
 #include "st/mesh.h"
+#include "st/tolerances.h"
 
 #include <nlohmann/json.hpp>
 
@@ -71,6 +73,7 @@ private:
 
 /// The whole file as bytes; InvalidInput naming `what` and the path when it cannot be opened.
 inline std::string read_text_file(const std::string& path, const std::string& what) {
+  check_input_file(path, what, tol::kMaxTextFileBytes);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InvalidInput(path + ": cannot open the " + what);
   std::ostringstream text;

@@ -1,0 +1,41 @@
+#pragma once
+// The check every file reader makes before it opens a file: it exists, it is a regular file (not a
+// directory, a device such as /dev/zero or a FIFO, which would be read forever or block), and it is
+// not over the reader's size limit (st/tolerances.h).
+
+#include "st/errors.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <system_error>
+
+namespace st::detail {
+
+/// The file's size in bytes. Throws InvalidInput "<path>: cannot open the <what>: ..." naming why.
+inline std::uintmax_t check_input_file(const std::string& path, const std::string& what,
+                                       std::uintmax_t max_bytes) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  const std::string prefix = path + ": cannot open the " + what + ": ";
+  if (ec || !fs::exists(status))
+    throw InvalidInput(prefix + (ec ? ec.message() : std::string("No such file or directory")));
+  if (fs::is_directory(status)) throw InvalidInput(prefix + "it is a directory");
+  if (!fs::is_regular_file(status)) {
+    const char* kind = fs::is_fifo(status)                ? "a FIFO (named pipe)"
+                       : fs::is_character_file(status)    ? "a character device"
+                       : fs::is_block_file(status)        ? "a block device"
+                       : fs::is_socket(status)            ? "a socket"
+                                                          : "not a regular file";
+    throw InvalidInput(prefix + "it is " + kind + ", not a regular file");
+  }
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) throw InvalidInput(prefix + ec.message());
+  if (size > max_bytes)
+    throw InvalidInput(prefix + "it has " + std::to_string(size) + " bytes, over the limit of " +
+                       std::to_string(max_bytes >> 20) + " MiB");
+  return size;
+}
+
+} // namespace st::detail
