@@ -30,10 +30,10 @@
 // which step it was. The JSON report goes to stdout.
 // Exit codes: 0 whenever the operands could be read, 1 when they cannot, 2 for bad arguments.
 
-#include "st/boolean.h"
-#include "st/mesh.h"
-#include "st/mesh_io.h"
-#include "st/validate.h"
+#include "st/boolean/boolean.h"
+#include "st/core/mesh.h"
+#include "st/io/mesh_io.h"
+#include "st/validate/validate.h"
 
 #include "report_json.h"
 #include "vtk_convert.h"

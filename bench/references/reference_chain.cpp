@@ -17,14 +17,14 @@
 // untimed; conversions between the libraries' mesh types are timed with the step that needs them.
 // See README.md for what is and is not comparable with the kernel's times.
 
-#include "st/case_file.h"
-#include "st/errors.h"
-#include "st/mesh.h"
-#include "st/mesh_io.h"
-#include "st/ruled_surface.h"
-#include "st/surface_curve.h"
-#include "st/topology.h"
-#include "st/validate.h"
+#include "st/io/case_file.h"
+#include "st/core/errors.h"
+#include "st/core/mesh.h"
+#include "st/io/mesh_io.h"
+#include "st/design/ruled_surface.h"
+#include "st/design/surface_curve.h"
+#include "st/core/topology.h"
+#include "st/validate/validate.h"
 
 #include "report_json.h"
 #include "vtk_convert.h"

@@ -1,7 +1,7 @@
 #pragma once
 // Report helpers shared by the benchmark's reference programs: medians and the solid check as JSON.
 
-#include "st/validate.h"
+#include "st/validate/validate.h"
 
 #include <nlohmann/json.hpp>
 

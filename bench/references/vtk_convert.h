@@ -1,7 +1,7 @@
 #pragma once
 // Kernel mesh <-> VTK polydata, shared by the benchmark's reference programs.
 
-#include "st/mesh.h"
+#include "st/core/mesh.h"
 
 #include <vtkCellArray.h>
 #include <vtkIdTypeArray.h>

@@ -1,7 +1,7 @@
 #include "convert.h"
 
-#include "st/boolean.h"
-#include "st/inspect.h"
+#include "st/boolean/boolean.h"
+#include "st/guide/inspect.h"
 
 namespace py = pybind11;
 using namespace st;

@@ -1,6 +1,6 @@
 #include "convert.h"
 
-#include "st/case_file.h"
+#include "st/io/case_file.h"
 
 #include <pybind11/stl.h>
 

@@ -1,8 +1,8 @@
 #include "convert.h"
 
-#include "st/aabb_tree.h"
-#include "st/mesh_io.h"
-#include "st/validate.h"
+#include "st/core/aabb_tree.h"
+#include "st/io/mesh_io.h"
+#include "st/validate/validate.h"
 
 #include <memory>
 

@@ -6,8 +6,8 @@
 
 #include "convert.h"
 
-#include "st/occt_sleeve.h"
-#include "st/sleeve.h"
+#include "st/occt/occt_sleeve.h"
+#include "st/guide/sleeve.h"
 
 namespace py = pybind11;
 using namespace st;

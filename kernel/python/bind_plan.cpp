@@ -1,6 +1,6 @@
 #include "convert.h"
 
-#include "st/plan.h"
+#include "st/io/plan.h"
 
 #include <pybind11/stl.h>
 

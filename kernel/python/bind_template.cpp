@@ -1,12 +1,12 @@
 #include "convert.h"
 
-#include "st/cut.h"
-#include "st/offset.h"
-#include "st/ruled_surface.h"
-#include "st/surface_curve.h"
-#include "st/guide.h"
-#include "st/template_design.h"
-#include "st/topology.h"
+#include "st/design/cut.h"
+#include "st/design/offset.h"
+#include "st/design/ruled_surface.h"
+#include "st/design/surface_curve.h"
+#include "st/guide/guide.h"
+#include "st/design/template_design.h"
+#include "st/core/topology.h"
 
 namespace py = pybind11;
 using namespace st;

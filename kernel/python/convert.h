@@ -2,10 +2,10 @@
 // numpy <-> kernel conversions shared by the bind_*.cpp files. Arrays are copied by value:
 // positions (n, 3) float64, triangles (m, 3) int32/uint32/int64 (checked against n).
 
-#include "st/case_file.h"
-#include "st/errors.h"
-#include "st/mesh.h"
-#include "st/validate.h"
+#include "st/io/case_file.h"
+#include "st/core/errors.h"
+#include "st/core/mesh.h"
+#include "st/validate/validate.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>

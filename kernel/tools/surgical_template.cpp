@@ -9,13 +9,13 @@
 //
 // Exit codes: 0 done, 1 the geometry cannot give a template (message says where), 2 invalid input.
 
-#include "st/boolean.h"
-#include "st/case_file.h"
-#include "st/errors.h"
-#include "st/mesh_io.h"
-#include "st/plan.h"
-#include "st/template_design.h"
-#include "st/validate.h"
+#include "st/boolean/boolean.h"
+#include "st/io/case_file.h"
+#include "st/core/errors.h"
+#include "st/io/mesh_io.h"
+#include "st/io/plan.h"
+#include "st/design/template_design.h"
+#include "st/validate/validate.h"
 
 #include <nlohmann/json.hpp>
 #include <sys/resource.h>

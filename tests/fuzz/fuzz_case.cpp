@@ -2,9 +2,9 @@
 // refuse a case; a parsed case must keep every rule of docs/CASE-FORMAT.md (checked here again), and
 // its tubes must pass check_tube.
 
-#include "st/case_file.h"
-#include "st/errors.h"
-#include "st/sleeve.h"
+#include "st/io/case_file.h"
+#include "st/core/errors.h"
+#include "st/guide/sleeve.h"
 
 #include <cmath>
 #include <cstddef>

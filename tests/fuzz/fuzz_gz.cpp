@@ -2,8 +2,8 @@
 // detected). st::InvalidInput is the only allowed way to refuse an input.
 
 #include "detail/gzip.h"
-#include "st/errors.h"
-#include "st/mesh_io.h"
+#include "st/core/errors.h"
+#include "st/io/mesh_io.h"
 
 #include <cstddef>
 #include <cstdint>

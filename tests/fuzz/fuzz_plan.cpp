@@ -2,9 +2,9 @@
 // on arbitrary text. The first byte picks the reader and the bone's frame. InvalidInput is the only
 // allowed way to refuse; what is read must be finite, axes unit, catalogue sleeves valid.
 
-#include "st/errors.h"
-#include "st/plan.h"
-#include "st/sleeve.h"
+#include "st/core/errors.h"
+#include "st/io/plan.h"
+#include "st/guide/sleeve.h"
 
 #include <cmath>
 #include <cstddef>

@@ -4,8 +4,8 @@
 // exception, a crash, a sanitizer report, a hang or a returned mesh that breaks the reader's
 // guarantees is a bug.
 
-#include "st/errors.h"
-#include "st/mesh_io.h"
+#include "st/core/errors.h"
+#include "st/io/mesh_io.h"
 
 #include <cstddef>
 #include <cstdint>

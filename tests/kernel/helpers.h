@@ -1,8 +1,8 @@
 #pragma once
 // Fixtures built in code and assertion helpers for the kernel tests.
 
-#include "st/mesh.h"
-#include "st/validate.h"
+#include "st/core/mesh.h"
+#include "st/validate/validate.h"
 
 #include <gtest/gtest.h>
 

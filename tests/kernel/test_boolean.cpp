@@ -3,9 +3,9 @@
 
 #include "helpers.h"
 
-#include "st/boolean.h"
-#include "st/errors.h"
-#include "st/sleeve.h"
+#include "st/boolean/boolean.h"
+#include "st/core/errors.h"
+#include "st/guide/sleeve.h"
 
 #include <gtest/gtest.h>
 

@@ -2,10 +2,10 @@
 
 #include "helpers.h"
 
-#include "st/cut.h"
-#include "st/errors.h"
-#include "st/surface_curve.h"
-#include "st/topology.h"
+#include "st/design/cut.h"
+#include "st/core/errors.h"
+#include "st/design/surface_curve.h"
+#include "st/core/topology.h"
 
 #include <numbers>
 

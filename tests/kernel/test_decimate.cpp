@@ -4,10 +4,10 @@
 
 #include "helpers.h"
 
-#include "st/decimate.h"
-#include "st/errors.h"
-#include "st/mesh.h"
-#include "st/topology.h"
+#include "st/design/decimate.h"
+#include "st/core/errors.h"
+#include "st/core/mesh.h"
+#include "st/core/topology.h"
 
 #include <gtest/gtest.h>
 

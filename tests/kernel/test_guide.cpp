@@ -4,15 +4,15 @@
 
 #include "helpers.h"
 
-#include "st/aabb_tree.h"
-#include "st/case_file.h"
-#include "st/errors.h"
-#include "st/guide.h"
-#include "st/inspect.h"
-#include "st/mesh_io.h"
-#include "st/sleeve.h"
-#include "st/template_design.h"
-#include "st/triangle_intersection.h"
+#include "st/core/aabb_tree.h"
+#include "st/io/case_file.h"
+#include "st/core/errors.h"
+#include "st/guide/guide.h"
+#include "st/guide/inspect.h"
+#include "st/io/mesh_io.h"
+#include "st/guide/sleeve.h"
+#include "st/design/template_design.h"
+#include "st/boolean/triangle_intersection.h"
 
 #include <gtest/gtest.h>
 

@@ -2,8 +2,8 @@
 
 #include "helpers.h"
 
-#include "st/errors.h"
-#include "st/mesh_io.h"
+#include "st/core/errors.h"
+#include "st/io/mesh_io.h"
 
 #include <fstream>
 #include <iterator>

@@ -3,10 +3,10 @@
 
 #include "helpers.h"
 
-#include "st/case_file.h"
-#include "st/inspect.h"
-#include "st/mesh_io.h"
-#include "st/template_design.h"
+#include "st/io/case_file.h"
+#include "st/guide/inspect.h"
+#include "st/io/mesh_io.h"
+#include "st/design/template_design.h"
 
 #include <gtest/gtest.h>
 

@@ -5,10 +5,10 @@
 
 #include "helpers.h"
 
-#include "st/errors.h"
-#include "st/mesh.h"
-#include "st/occt_sleeve.h"
-#include "st/sleeve.h"
+#include "st/core/errors.h"
+#include "st/core/mesh.h"
+#include "st/occt/occt_sleeve.h"
+#include "st/guide/sleeve.h"
 
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepCheck_Analyzer.hxx>

@@ -3,9 +3,9 @@
 
 #include "helpers.h"
 
-#include "st/errors.h"
-#include "st/mesh.h"
-#include "st/offset.h"
+#include "st/core/errors.h"
+#include "st/core/mesh.h"
+#include "st/design/offset.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

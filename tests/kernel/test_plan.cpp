@@ -3,12 +3,12 @@
 
 #include "helpers.h"
 
-#include "st/case_file.h"
-#include "st/errors.h"
-#include "st/mesh_io.h"
-#include "st/plan.h"
-#include "st/template_design.h"
-#include "st/validate.h"
+#include "st/io/case_file.h"
+#include "st/core/errors.h"
+#include "st/io/mesh_io.h"
+#include "st/io/plan.h"
+#include "st/design/template_design.h"
+#include "st/validate/validate.h"
 
 #include <gtest/gtest.h>
 

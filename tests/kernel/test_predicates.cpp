@@ -2,7 +2,7 @@
 // an integer times a power of two, so the determinants are evaluated on those integers with a 512-bit
 // two's complement integer written here for the purpose.
 
-#include "st/predicates.h"
+#include "st/core/predicates.h"
 
 #include <gtest/gtest.h>
 

@@ -2,9 +2,9 @@
 
 #include "helpers.h"
 
-#include "st/errors.h"
-#include "st/ruled_surface.h"
-#include "st/triangle_intersection.h"
+#include "st/core/errors.h"
+#include "st/design/ruled_surface.h"
+#include "st/boolean/triangle_intersection.h"
 
 #include <numbers>
 

@@ -2,10 +2,10 @@
 
 #include "helpers.h"
 
-#include "st/case_file.h"
-#include "st/errors.h"
-#include "st/mesh_io.h"
-#include "st/template_design.h"
+#include "st/io/case_file.h"
+#include "st/core/errors.h"
+#include "st/io/mesh_io.h"
+#include "st/design/template_design.h"
 
 #include <filesystem>
 #include <numbers>

@@ -1,7 +1,7 @@
-#include "st/occt_sleeve.h"
+#include "st/occt/occt_sleeve.h"
 
 #include "detail/format.h"
-#include "st/errors.h"
+#include "st/core/errors.h"
 
 #include <BRepBuilderAPI_Copy.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>

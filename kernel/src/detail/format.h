@@ -1,7 +1,7 @@
 #pragma once
 // Message formatting shared by the kernel's sources.
 
-#include "st/mesh.h"
+#include "st/core/mesh.h"
 
 #include <cstdio>
 #include <sstream>

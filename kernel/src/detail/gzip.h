@@ -16,4 +16,8 @@ bool is_gzip(const char* data, std::size_t size);
 /// hostile file cannot make the reader allocate gigabytes.
 std::vector<char> gunzip(const char* data, std::size_t size, const std::string& name, std::size_t max_size = 0);
 
+/// The first bytes (at most `max_size`) that the start of a gzip stream inflates to: `data` may stop
+/// anywhere (e.g. the first 64 KiB of a file). Throws InvalidInput naming `name` for corrupt data.
+std::vector<char> gunzip_prefix(const char* data, std::size_t size, const std::string& name, std::size_t max_size);
+
 } // namespace st::detail

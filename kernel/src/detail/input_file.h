@@ -3,10 +3,12 @@
 // directory, a device such as /dev/zero or a FIFO, which would be read forever or block), and it is
 // not over the reader's size limit (st/tolerances.h).
 
-#include "st/errors.h"
+#include "st/core/errors.h"
+#include "st/core/tolerances.h"
 
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <system_error>
 
@@ -36,6 +38,17 @@ inline std::uintmax_t check_input_file(const std::string& path, const std::strin
     throw InvalidInput(prefix + "it has " + std::to_string(size) + " bytes, over the limit of " +
                        std::to_string(max_bytes >> 20) + " MiB");
   return size;
+}
+
+/// The first `bytes` bytes of a file (all of a shorter one), checked as above.
+inline std::string read_file_start(const std::string& path, const std::string& what, std::size_t bytes) {
+  check_input_file(path, what, tol::kMaxMeshFileBytes);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InvalidInput(path + ": cannot open the " + what);
+  std::string out(bytes, '\0');
+  in.read(out.data(), static_cast<std::streamsize>(bytes));
+  out.resize(static_cast<std::size_t>(in.gcount()));
+  return out;
 }
 
 } // namespace st::detail

@@ -3,9 +3,9 @@
 // Slicer markups, sleeve presets). Every failure throws InvalidInput("<file>: <key>: <why>").
 
 #include "input_file.h"
-#include "st/errors.h"
-#include "st/mesh.h"
-#include "st/tolerances.h"
+#include "st/core/errors.h"
+#include "st/core/mesh.h"
+#include "st/core/tolerances.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,0 +1,79 @@
+#pragma once
+// Axis-aligned bounding-box tree over (a subset of) the triangles of a mesh, built once and queried
+// many times: closest point, first ray hit, boxes, and overlapping triangle pairs (for collision and
+// self-intersection tests). Median split on the longest axis, leaves of up to 4 triangles.
+
+#include "st/core/closest_point.h"
+#include "st/core/mesh.h"
+
+#include <functional>
+#include <optional>
+#include <vector>
+
+namespace st {
+
+struct ClosestPoint {
+  Index face = kInvalidIndex; // mesh face index
+  Vec3 point = Vec3::Zero();
+  double distance = 0.0;
+};
+
+struct RayHit {
+  Index face = kInvalidIndex;
+  Vec3 point = Vec3::Zero();
+  double t = 0.0; // hit = origin + t * direction
+};
+
+class AabbTree {
+public:
+  /// Tree over all triangles of `mesh`, or only over `faces` when given. Keeps a reference to mesh.
+  explicit AabbTree(const TriangleMesh& mesh, std::vector<Index> faces = {});
+
+  [[nodiscard]] bool empty() const { return faces_.empty(); }
+  [[nodiscard]] const TriangleMesh& mesh() const { return mesh_; }
+
+  /// Closest point on the indexed triangles; nullopt when the tree is empty or nothing lies within
+  /// `max_distance`.
+  [[nodiscard]] std::optional<ClosestPoint>
+  closest_point(const Vec3& p, double max_distance = std::numeric_limits<double>::infinity()) const;
+
+  /// First intersection of the ray origin + t*direction, t in [t_min, t_max].
+  [[nodiscard]] std::optional<RayHit> first_hit(const Vec3& origin, const Vec3& direction,
+                                                double t_min = 0.0,
+                                                double t_max = std::numeric_limits<double>::infinity()) const;
+
+  /// Calls visit(face) for every triangle whose box overlaps `box`.
+  void for_each_in_box(const BoundingBox& box, const std::function<void(Index)>& visit) const;
+
+  /// Calls visit(fa, fb) once for every pair of distinct triangles of this tree whose boxes overlap.
+  void for_each_overlapping_pair(const std::function<void(Index, Index)>& visit) const;
+
+  /// Calls visit(fa, fb) for every triangle fa of this tree and fb of `other` whose boxes overlap.
+  void for_each_overlapping_pair(const AabbTree& other,
+                                 const std::function<void(Index, Index)>& visit) const;
+
+private:
+  struct Node {
+    BoundingBox box;
+    Index left = kInvalidIndex; // child nodes, or kInvalidIndex for a leaf
+    Index right = kInvalidIndex;
+    Index begin = 0;            // leaf: range in faces_
+    Index end = 0;
+  };
+  struct Item {
+    BoundingBox box;
+    Vec3 centre;
+    Index face;
+  };
+  Index build(std::vector<Item>& items, Index begin, Index end);
+  void self_pairs(Index a, Index b, const std::function<void(Index, Index)>& visit) const;
+  void cross_pairs(Index a, const AabbTree& other, Index b,
+                   const std::function<void(Index, Index)>& visit) const;
+
+  const TriangleMesh& mesh_;
+  std::vector<Index> faces_;
+  std::vector<BoundingBox> face_boxes_; // parallel to faces_
+  std::vector<Node> nodes_;
+};
+
+} // namespace st

@@ -1,0 +1,60 @@
+#pragma once
+// Derived connectivity of a TriangleMesh.
+//
+// Half-edges are implicit: half-edge h = 3*f + k runs from triangles[f][k] to triangles[f][(k+1)%3].
+// Only the vertex -> faces incidence is stored (compressed rows, built in O(#F)); the opposite of a
+// half-edge is found on demand from it, so building a MeshTopology of a million-triangle mesh costs
+// a few milliseconds and work stays proportional to the part of the mesh an algorithm visits.
+//
+// An edge is "manifold" when exactly two triangles use it, in opposite directions. Every other edge
+// (border, non-manifold, or with inconsistent orientation, as found in raw CT isosurfaces) has no
+// opposite: algorithms treat it as a border.
+
+#include "st/core/mesh.h"
+
+#include <span>
+#include <vector>
+
+namespace st {
+
+inline Index face_of(Index h) { return h / 3; }
+inline Index next_halfedge(Index h) { return h - h % 3 + (h + 1) % 3; }
+inline Index prev_halfedge(Index h) { return h - h % 3 + (h + 2) % 3; }
+
+class MeshTopology {
+public:
+  /// Precondition: every index of `mesh` is < vertex_count (see check_mesh). Keeps a reference.
+  explicit MeshTopology(const TriangleMesh& mesh);
+
+  [[nodiscard]] const TriangleMesh& mesh() const { return mesh_; }
+  [[nodiscard]] Index from_vertex(Index h) const { return mesh_.triangles[h / 3][h % 3]; }
+  [[nodiscard]] Index to_vertex(Index h) const { return mesh_.triangles[h / 3][(h + 1) % 3]; }
+
+  /// Faces using vertex v.
+  [[nodiscard]] std::span<const Index> faces_of(Index v) const {
+    return {face_list_.data() + offsets_[v], face_list_.data() + offsets_[v + 1]};
+  }
+
+  /// The opposite half-edge, or kInvalidIndex when the edge is not manifold (see above).
+  [[nodiscard]] Index opposite(Index h) const;
+
+  /// Opposite of every half-edge (#F*3 entries), for small meshes that are walked a lot.
+  [[nodiscard]] std::vector<Index> all_opposites() const;
+
+private:
+  const TriangleMesh& mesh_;
+  std::vector<Index> offsets_;
+  std::vector<Index> face_list_;
+};
+
+/// Border loops of a mesh whose borders are simple (each border vertex has one outgoing border
+/// half-edge); each loop lists vertex indices in half-edge order, so the mesh lies to the left of
+/// the loop seen from the normal side. Throws GeometryError naming the vertex when a border vertex
+/// is not simple (two border fans meet there).
+std::vector<std::vector<Index>> border_loops(const TriangleMesh& mesh,
+                                             const std::vector<Index>& opposites);
+
+/// Number of edge-connected components (faces joined across manifold edges).
+std::size_t component_count(const TriangleMesh& mesh, const std::vector<Index>& opposites);
+
+} // namespace st

@@ -1,0 +1,54 @@
+#pragma once
+// Cutting a region out of a surface along a closed surface curve (paper: "Segmentation with signed
+// distance"), through the triangles.
+//
+// The paper gives every vertex a signed distance to the curve and clips at zero; its sign heuristic
+// fails where the surface folds back near the curve. Here the sides are decided by topology instead:
+// an edge is cut where the curve crosses it an odd number of times, at the exact crossing point; the
+// vertices on the left and on the right of every cut edge seed two floods across uncut manifold
+// edges. The side that closes first (or the one holding the `inside` point) is the region. When the
+// two floods meet, the curve does not separate the surface (it runs around a handle or through a
+// hole) and the cut is refused. Work is proportional to the region, not to the whole mesh.
+
+#include "st/core/mesh.h"
+#include "st/design/surface_curve.h"
+#include "st/core/topology.h"
+
+#include <array>
+#include <optional>
+#include <vector>
+
+namespace st {
+
+struct CutOptions {
+  /// A point on or near the surface inside the region to keep; without it the region with the
+  /// smaller area is kept.
+  std::optional<Vec3> inside;
+  /// The face the inside point lies on, when the caller knows it (else it is searched among the
+  /// curve's local faces).
+  Index inside_face = kInvalidIndex;
+  /// Refuse a region that contains an open border or non-manifold edge (a hole in the bone mesh).
+  bool require_closed_region = true;
+};
+
+struct CutResult {
+  TriangleMesh region;            ///< the kept part, triangles oriented as in the input
+  std::vector<Index> rim;         ///< the region's border loop (region vertex indices), region on its left
+  std::vector<Index> source_vertex; ///< per region vertex: the input vertex, or kInvalidIndex for a cut vertex
+  /// Where a cut vertex lies: (1 - t) * input[edge[0]] + t * input[edge[1]]. For input vertices the
+  /// edge is (v, v) and t = 0.
+  struct Source {
+    std::array<Index, 2> edge{kInvalidIndex, kInvalidIndex};
+    double t = 0.0;
+  };
+  std::vector<Source> source;     ///< per region vertex
+  double area = 0.0;              ///< area of the region, mm^2
+};
+
+/// Cuts `topology.mesh()` along `curve` (from trace_surface_curve on the same topology).
+/// Throws GeometryError when the curve does not separate the surface, when the region contains an
+/// open border (with require_closed_region), or when its border is not one simple loop; the message
+/// says where.
+CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, const CutOptions& options = {});
+
+} // namespace st

@@ -1,0 +1,63 @@
+#pragma once
+// The surgical guide: the template shell with its drilling tubes (paper: "Collision detection and
+// merging"), made with the kernel's Boolean operations (boolean.h).
+//
+// Per tube, rays along the planned axis find where the template lies under the sleeve. The sleeve's
+// outer cylinder is extended down to the middle of the template wall (a column, so a sleeve planned
+// above the template still joins it), the columns are united with each other and with the shell,
+// and pieces that would pass the shell's inner surface into the bone are dropped (the seat: the
+// inner surface inside a column is kept instead). Then the bores (inner radius, circumscribed so the
+// drill always fits) are cut along each whole axis, from above the sleeve through to the bone.
+
+#include "st/guide/tube.h"
+#include "st/core/mesh.h"
+
+#include <string>
+#include <vector>
+
+namespace st {
+
+struct GuideOptions {
+  double chordal_tolerance = 0.01; ///< sleeve and bore tessellation: largest chord deviation, mm
+  double clearance = 0.0;          ///< bone clearance, for sleeve parts that overhang the template
+  double bore_margin = 1.0;        ///< how far the bore runs past the sleeve top and the inner surface, mm
+};
+
+/// What was decided for one tube; heights z along its axis from the entry, outward (sleeve.h).
+struct TubePlacement {
+  std::string name;
+  double sleeve_bottom = 0.0;   ///< offset: the sleeve's lower end as planned
+  double sleeve_top = 0.0;      ///< offset + length
+  double column_bottom = 0.0;   ///< where the sleeve's outer wall stops, inside the template wall
+  double foot_lift = 0.0;       ///< the column's foot stays this far above bone + clearance
+  double template_top = 0.0;    ///< highest point where the template lies under the sleeve
+  double template_bottom = 0.0; ///< lowest point of the template's inner surface under the sleeve
+  double bore_bottom = 0.0;
+  double bore_top = 0.0;
+  bool sleeve_inside_template = false; ///< the whole sleeve lies inside the template's wall
+};
+
+struct GuideResult {
+  TriangleMesh mesh;                   ///< the guide, float32-exact
+  std::vector<std::uint8_t> from_tube; ///< per face: 1 when it is sleeve wall, cap or bore
+  std::vector<TubePlacement> tubes;
+  double placement_seconds = 0.0;      ///< rays along the axes (part of union_seconds)
+  double columns_seconds = 0.0;        ///< columns united with each other (part of union_seconds)
+  double union_seconds = 0.0;          ///< placement, columns united with each other and with the shell
+  double bore_seconds = 0.0;           ///< bores united and cut
+  double seconds = 0.0;                ///< all of it: the paper's "Runtime of Boolean operation"
+  int perturbed_operations = 0;        ///< Boolean operations that needed a tiny displacement
+  double max_perturbation = 0.0;       ///< the largest such displacement, mm (surfaces may move this much)
+  double curve_tolerance = 0.0;        ///< how far the intersection curves may have moved, mm (boolean.h)
+  TriangleMesh columns;                ///< the sleeve columns united (second operand of the union)
+  TriangleMesh bores;                  ///< the bores united (second operand of the difference)
+};
+
+/// Merges `tubes` into the closed template `shell` whose first `inner_faces` faces are its inner
+/// surface (the seat on the bone). `bone` is only used for sleeve parts beyond the template's rim.
+/// Throws InvalidInput for a bad tube (naming it and the key) and GeometryError for a tube that misses
+/// the template (naming it and how far it passes) or a merge that cannot be made valid.
+GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
+                      const std::vector<TubeSpec>& tubes, const GuideOptions& options = {});
+
+} // namespace st

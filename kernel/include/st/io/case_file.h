@@ -1,0 +1,44 @@
+#pragma once
+// Case files: the preoperative plan of one template as JSON, format "surgical-template-case/1"
+// (the contract is docs/CASE-FORMAT.md). All lengths in mm; paths relative to the case file.
+
+#include "st/core/mesh.h"
+#include "st/design/template_design.h"
+#include "st/guide/tube.h"
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace st {
+
+struct CaseFile {
+  std::string path;                   ///< the case file itself
+  std::string name;
+  std::string bone;                   ///< bone mesh path, resolved against the case folder
+  std::vector<Vec3> boundary_points;
+  std::optional<Vec3> inside;
+  double thickness = 0.0;
+  double clearance = 0.0;
+  std::optional<double> resolution;
+  std::optional<int> sampling_step;
+  std::vector<TubeSpec> tubes;
+  std::optional<std::string> output;  ///< resolved against the case folder
+  std::vector<std::string> warnings;  ///< unknown keys and the like
+};
+
+inline constexpr const char* kCaseFormat = "surgical-template-case/1";
+
+/// Reads and checks a case file. Throws InvalidInput naming the file and the key for every rule of
+/// the format that is broken (missing required key, wrong type, value out of range).
+CaseFile read_case(const std::string& path);
+
+/// The options a case file asks for: boundary, inside, thickness, clearance, resolution, sampling step
+/// and tubes (the rest at their defaults).
+TemplateOptions template_options(const CaseFile& c);
+
+/// Parses case JSON text; `path` is used for messages and to resolve relative paths.
+CaseFile parse_case(const std::string& text, const std::string& path);
+
+} // namespace st

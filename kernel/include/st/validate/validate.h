@@ -1,0 +1,52 @@
+#pragma once
+// Checks that a mesh is a printable solid, and that a template fits its bone. Used by the design
+// pipeline, the command-line tool and the tests alike.
+
+#include "st/core/mesh.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace st {
+
+struct SolidReport {
+  std::size_t vertices = 0;
+  std::size_t triangles = 0;
+  std::size_t border_edges = 0;          ///< half-edges with no partner (0 for a closed mesh)
+  std::size_t nonmanifold_edges = 0;     ///< edges used by more than two triangles
+  std::size_t misoriented_edges = 0;     ///< edges whose two triangles run the same way
+  std::size_t nonmanifold_vertices = 0;  ///< vertices whose triangles form more than one fan
+  std::size_t degenerate_triangles = 0;  ///< zero area or repeated corners
+  std::size_t self_intersections = 0;    ///< intersecting triangle pairs (counting stops at max_reported)
+  std::size_t components = 0;
+  double area = 0.0;                     ///< mm^2
+  double volume = 0.0;                   ///< signed, mm^3
+  std::vector<Vec3> problem_points;      ///< a few places where something is wrong
+
+  [[nodiscard]] bool closed() const { return border_edges == 0; }
+  [[nodiscard]] bool manifold() const { return nonmanifold_edges == 0 && nonmanifold_vertices == 0; }
+  [[nodiscard]] bool oriented() const { return misoriented_edges == 0 && volume > 0.0; }
+  /// Closed, 2-manifold, outward oriented, no degenerate triangle, no self-intersection.
+  [[nodiscard]] bool valid() const {
+    return closed() && manifold() && oriented() && degenerate_triangles == 0 && self_intersections == 0;
+  }
+  [[nodiscard]] std::string summary() const;
+};
+
+struct SolidOptions {
+  bool check_self_intersections = true;
+  std::size_t max_reported = 100; ///< stop counting self-intersections here
+};
+
+/// Topology, orientation and self-intersection check of a triangle mesh as a solid.
+SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options = {});
+
+/// Distance statistics of points to a surface (exact closest-point distances), mm.
+struct DistanceStats {
+  double min = 0.0, max = 0.0, mean = 0.0;
+  std::size_t count = 0;
+};
+DistanceStats distances_to_surface(const std::vector<Vec3>& points, const TriangleMesh& surface);
+
+} // namespace st

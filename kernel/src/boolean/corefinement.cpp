@@ -1,0 +1,584 @@
+// One corefinement of two closed meshes: intersection curve, faces split along it, pieces classified
+// inside or outside the other operand, the result assembled.
+
+#include "boolean/corefinement.h"
+
+#include "detail/format.h"
+#include "st/boolean/triangle_intersection.h"
+#include "st/core/aabb_tree.h"
+#include "st/core/errors.h"
+#include "st/core/predicates.h"
+#include "st/core/topology.h"
+#include "st/core/union_find.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <optional>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace st::boolean_detail {
+
+namespace {
+
+class Corefinement {
+public:
+  Corefinement(const TriangleMesh& a, const TriangleMesh& b, const BooleanOptions& options, double short_edge)
+      : a_(a), b_(b), options_(options), na_(a.vertex_count()), nb_(b.vertex_count()), short_edge_(short_edge) {}
+
+  BooleanResult run(BooleanOp op) {
+    auto t = std::chrono::steady_clock::now();
+    auto lap = [&](const char* what) {
+      if (!debug_) return;
+      const auto now = std::chrono::steady_clock::now();
+      std::fprintf(stderr, "  %-10s %.4f s\n", what, std::chrono::duration<double>(now - t).count());
+      t = now;
+    };
+    find_segments();
+    for (const SeamSegment& g : seam_) seam_edges_.insert(edge_key(g.p, g.q)); // both sides use it
+    lap("segments");
+    split_faces();
+    lap("split");
+    for (int s = 0; s < 2; ++s) collect_pieces(s);
+    for (int s = 0; s < 2; ++s) classify(s);
+    if (op == BooleanOp::Union && !options_.seat.empty()) resolve_seat();
+    lap("classify");
+    BooleanResult result = assemble(op);
+    lap("assemble");
+    return result;
+  }
+
+private:
+  const Vec3& position(Index id) const {
+    if (id < na_) return a_.positions[id];
+    if (id < na_ + nb_) return b_.positions[id - na_];
+    return points_[id - na_ - nb_];
+  }
+  const TriangleMesh& mesh(int s) const { return s == 0 ? a_ : b_; }
+  Index base(int s) const { return s == 0 ? 0 : na_; }
+  std::array<Vec3, 3> corners(int s, Index f) const {
+    const TriangleMesh& m = mesh(s);
+    const Triangle& t = m.triangles[f];
+    return {m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]};
+  }
+
+  // The point where edge (u, v) of operand s (its own vertex ids) crosses face f of the other.
+  Index crossing_point(int s, Index u, Index v, Index f, double& t_canonical) {
+    const Index gu = base(s) + u, gv = base(s) + v;
+    const PointKey key{edge_key(gu, gv), s == 0 ? f + a_.face_count() : f};
+    const auto it = point_index_.find(key);
+    if (it != point_index_.end()) {
+      t_canonical = point_t_[it->second];
+      return na_ + nb_ + it->second;
+    }
+    const Vec3& p = position(std::min(gu, gv));
+    const Vec3& q = position(std::max(gu, gv));
+    const auto c = corners(1 - s, f);
+    const Vec3 n = (c[1] - c[0]).cross(c[2] - c[0]);
+    const double dp = n.dot(p - c[0]), dq = n.dot(q - c[0]);
+    const double t = dp / (dp - dq);
+    if (!(t > 0.0 && t < 1.0)) throw Degenerate{"a crossing at an edge's end"};
+    const Index id = static_cast<Index>(points_.size());
+    Vec3 at = p + t * (q - p);
+    // Rounded now, so that every face is triangulated with the coordinates the result will hold.
+    if (options_.round_to_float) at = at.cast<float>().cast<double>();
+    points_.push_back(at);
+    point_t_.push_back(t);
+    point_index_.emplace(key, id);
+    t_canonical = t;
+    return na_ + nb_ + id;
+  }
+
+  static void add_point(FaceWork& w, const FacePoint& p) {
+    for (const FacePoint& q : w.points)
+      if (q.id == p.id) return;
+    w.points.push_back(p);
+  }
+
+  void find_segments() {
+    // Oriented boxes around the smaller operand's components select the other's near faces tightly;
+    // the larger operand's axis-aligned box is enough the other way (and costs no pass over it).
+    auto whole_box = [](const TriangleMesh& m) {
+      OrientedBox box;
+      box.world = bounding_box(m);
+      box.axes.setIdentity();
+      box.centre = box.world.center();
+      box.half = 0.5 * box.world.size();
+      return std::vector<OrientedBox>{box};
+    };
+    const bool a_smaller = a_.face_count() < b_.face_count();
+    const std::vector<Index> near_a = faces_near(a_, a_smaller ? whole_box(b_) : component_boxes(b_));
+    const std::vector<Index> near_b = faces_near(b_, a_smaller ? component_boxes(a_) : whole_box(a_));
+    local_[0].assign(a_.face_count(), 0);
+    local_[1].assign(b_.face_count(), 0);
+    for (Index f : near_a) local_[0][f] = 1;
+    for (Index f : near_b) local_[1][f] = 1;
+    if (near_a.empty() || near_b.empty()) return;
+    const AabbTree tree_a(a_, near_a);
+    const AabbTree tree_b(b_, near_b);
+    tree_a.for_each_overlapping_pair(tree_b, [&](Index fa, Index fb) { intersect_pair(fa, fb); });
+  }
+
+  void intersect_pair(Index fa, Index fb) {
+    const auto pa = corners(0, fa), pb = corners(1, fb);
+    int sa[3], sb[3];
+    for (int i = 0; i < 3; ++i) sa[i] = orient3d(pb[0], pb[1], pb[2], pa[i]);
+    if ((sa[0] > 0 && sa[1] > 0 && sa[2] > 0) || (sa[0] < 0 && sa[1] < 0 && sa[2] < 0)) return;
+    for (int i = 0; i < 3; ++i) sb[i] = orient3d(pa[0], pa[1], pa[2], pb[i]);
+    if ((sb[0] > 0 && sb[1] > 0 && sb[2] > 0) || (sb[0] < 0 && sb[1] < 0 && sb[2] < 0)) return;
+    if (sa[0] == 0 || sa[1] == 0 || sa[2] == 0 || sb[0] == 0 || sb[1] == 0 || sb[2] == 0) {
+      if (triangles_intersect(pa[0], pa[1], pa[2], pb[0], pb[1], pb[2]))
+        throw Degenerate{"a vertex on the other operand's face plane, near " + detail::where(pa[0])};
+      return;
+    }
+    struct Event {
+      Index point;
+      int side;  // 0: an edge of fa crosses fb; 1: an edge of fb crosses fa
+      int edge;  // which edge of its face
+      double t;  // parameter along that edge, from its corner `edge`
+    };
+    std::array<Event, 4> events{};
+    int count = 0;
+    auto edges_through = [&](int s, const std::array<Vec3, 3>& p, const int* sp, const std::array<Vec3, 3>& q,
+                             Index f_own, Index f_other) {
+      const Triangle& tri = mesh(s).triangles[f_own];
+      for (int i = 0; i < 3; ++i) {
+        const int j = (i + 1) % 3;
+        if (sp[i] == sp[j]) continue;
+        int o[3];
+        for (int k = 0; k < 3; ++k) o[k] = orient3d(p[i], p[j], q[k], q[(k + 1) % 3]);
+        const bool pos = o[0] >= 0 && o[1] >= 0 && o[2] >= 0, neg = o[0] <= 0 && o[1] <= 0 && o[2] <= 0;
+        if (!pos && !neg) continue;
+        if (o[0] == 0 || o[1] == 0 || o[2] == 0)
+          throw Degenerate{"an edge through the other operand's edge, near " + detail::where(p[i])};
+        if (count == 4) throw Degenerate{"too many crossings"};
+        double t_canonical = 0.0;
+        const Index id = crossing_point(s, tri[i], tri[j], f_other, t_canonical);
+        const bool forward = base(s) + tri[i] < base(s) + tri[j];
+        events[count++] = {id, s, i, forward ? t_canonical : 1.0 - t_canonical};
+      }
+    };
+    edges_through(0, pa, sa, pb, fa, fb);
+    edges_through(1, pb, sb, pa, fb, fa);
+    if (count == 0) return;
+    if (count != 2) throw Degenerate{"an odd crossing near " + detail::where(pa[0])};
+    FaceWork& wa = work_[0][fa];
+    FaceWork& wb = work_[1][fb];
+    for (int e = 0; e < 2; ++e) {
+      const Event& ev = events[e];
+      const Vec3& at = points_[ev.point - na_ - nb_];
+      add_point(ev.side == 0 ? wa : wb, {ev.point, ev.edge, ev.t, at});
+      add_point(ev.side == 0 ? wb : wa, {ev.point, -1, 0.0, at});
+    }
+    if (events[0].point == events[1].point) throw Degenerate{"a zero-length intersection"};
+    wa.segments.emplace_back(events[0].point, events[1].point);
+    wb.segments.emplace_back(events[0].point, events[1].point);
+    seam_.push_back({events[0].point, events[1].point, fa, fb});
+  }
+
+  void split_faces() {
+    for (int s = 0; s < 2; ++s)
+      for (auto& [f, w] : work_[s]) {
+        FaceSplitInput in;
+        in.corners = corners(s, f);
+        const Triangle& t = mesh(s).triangles[f];
+        in.corner_ids = {base(s) + t[0], base(s) + t[1], base(s) + t[2]};
+        in.points = w.points;
+        in.segments = w.segments;
+        try {
+          split_[s][f] = split_face(in);
+        } catch (const GeometryError& e) {
+          throw Degenerate{std::string(e.what()) + " near " + detail::where(in.corners[0])};
+        }
+      }
+  }
+
+  void collect_pieces(int s) {
+    const TriangleMesh& m = mesh(s);
+    std::vector<Piece>& pieces = pieces_[s];
+    for (Index f = 0; f < m.face_count(); ++f) {
+      if (!local_[s][f]) continue;
+      const auto it = split_[s].find(f);
+      if (it == split_[s].end()) {
+        const Triangle& t = m.triangles[f];
+        pieces.push_back({{base(s) + t[0], base(s) + t[1], base(s) + t[2]}, f});
+      } else {
+        for (const Triangle& t : it->second) pieces.push_back({t, f});
+      }
+    }
+  }
+
+  void classify(int s) {
+    std::vector<Piece>& pieces = pieces_[s];
+    const std::size_t n = pieces.size();
+    std::vector<std::pair<std::uint64_t, Index>> edges;
+    edges.reserve(3 * n);
+    for (Index i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) edges.emplace_back(edge_key(pieces[i].t[k], pieces[i].t[(k + 1) % 3]), i);
+    std::sort(edges.begin(), edges.end());
+    UnionFind uf(n);
+    std::vector<std::uint8_t> touches_outside(n, 0);
+    std::unordered_map<std::uint64_t, std::array<Index, 2>>& seam_pieces = seam_pieces_[s];
+    for (std::size_t i = 0; i < edges.size();) {
+      std::size_t j = i;
+      while (j < edges.size() && edges[j].first == edges[i].first) ++j;
+      const std::size_t uses = j - i;
+      const bool seam = seam_edges_.count(edges[i].first) != 0;
+      if (uses == 1) {
+        if (seam) throw Degenerate{"an intersection edge with one side"};
+        touches_outside[edges[i].second] = 1; // shared with a face far from the other operand
+      } else if (uses == 2) {
+        if (seam) seam_pieces[edges[i].first] = {edges[i].second, edges[i + 1].second};
+        else uf.join(edges[i].second, edges[i + 1].second);
+      } else {
+        throw Degenerate{"an edge with " + std::to_string(uses) + " faces after splitting"};
+      }
+      i = j;
+    }
+    std::vector<Index>& component = components_[s];
+    component.assign(n, 0);
+    std::unordered_map<Index, Index> root_to_component;
+    for (Index i = 0; i < n; ++i) {
+      const auto [it, fresh] = root_to_component.emplace(uf.find(i), static_cast<Index>(root_to_component.size()));
+      component[i] = it->second;
+    }
+    std::vector<Verdict>& verdicts = verdicts_[s];
+    verdicts.assign(root_to_component.size(), {});
+    const std::vector<std::uint8_t>& seat = options_.seat;
+    for (Index i = 0; i < n; ++i) {
+      Verdict& v = verdicts[component[i]];
+      if (touches_outside[i]) v.exterior = true;
+      if (s == 1 || seat.empty() || !seat[pieces[i].source]) v.all_seat = false;
+    }
+    // Side test at the intersection curve: the piece next to a segment lies on one side of the
+    // other operand's face through that segment; its centroid tells which, exactly.
+    for (const SeamSegment& g : seam_) {
+      const auto it = seam_pieces.find(edge_key(g.p, g.q));
+      if (it == seam_pieces.end()) throw Degenerate{"an intersection edge missing after splitting"};
+      const auto other = corners(1 - s, s == 0 ? g.fb : g.fa);
+      const Vec3 normal = (other[1] - other[0]).cross(other[2] - other[0]);
+      const double length = normal.norm();
+      for (Index piece : it->second) {
+        const Triangle& t = pieces[piece].t;
+        const Vec3 centroid = (position(t[0]) + position(t[1]) + position(t[2])) / 3.0;
+        const int side = orient3d(other[0], other[1], other[2], centroid);
+        if (side == 0) continue;
+        const double margin = std::abs(normal.dot(centroid - other[0])) / length;
+        Verdict& v = verdicts[component[piece]];
+        double& confidence = side > 0 ? v.inside_confidence : v.outside_confidence;
+        confidence = std::max(confidence, margin);
+        if (s == 1 && !seat.empty()) (seat[g.fa] ? v.on_seat_curve : v.on_other_curve) = true;
+      }
+    }
+    for (std::size_t c = 0; c < verdicts.size(); ++c) {
+      Verdict& v = verdicts[c];
+      const double in = v.inside_confidence, out = v.outside_confidence;
+      if (in > 0.0 || out > 0.0) {
+        if (std::min(in, out) > 1e-3 * std::max(in, out)) throw Degenerate{"a piece on both sides"};
+        v.inside = in > out ? 1 : 0;
+        if (v.exterior && v.inside) throw Degenerate{"a piece inside joined to faces far outside"};
+      } else if (v.exterior) {
+        v.inside = 0;
+      }
+    }
+    // Pieces no curve reaches and not joined to far faces (a part wholly inside or outside): rays.
+    for (Index i = 0; i < n; ++i) {
+      Verdict& v = verdicts[component[i]];
+      if (v.inside >= 0) continue;
+      const Triangle& t = pieces[i].t;
+      const Vec3 centroid = (position(t[0]) + position(t[1]) + position(t[2])) / 3.0;
+      v.inside = inside_by_rays(centroid, mesh(1 - s)) ? 1 : 0;
+    }
+  }
+
+  // The seat (union only): a piece of the second operand outside the first whose curves all lie on
+  // seat faces is beyond the seat and dropped, and the seat faces inside the second operand stay
+  // instead. The two decisions must agree along every curve they share; where they cannot (a piece
+  // that also passes beside the seat), both fall back to the plain union, which keeps the result
+  // closed. Decided to a fixed point: flags only ever go from true to false.
+  void resolve_seat() {
+    for (Verdict& v : verdicts_[0]) v.seat_keep = v.inside == 1 && v.all_seat;
+    for (Verdict& v : verdicts_[1]) v.seat_drop = v.inside == 0 && v.on_seat_curve && !v.on_other_curve;
+    std::vector<std::pair<Index, Index>> pairs; // (first's inside component, second's outside component)
+    for (const SeamSegment& g : seam_) {
+      const std::uint64_t key = edge_key(g.p, g.q);
+      Index a_in = kInvalidIndex, b_out = kInvalidIndex;
+      for (Index piece : seam_pieces_[0].at(key))
+        if (verdicts_[0][components_[0][piece]].inside == 1) a_in = components_[0][piece];
+      for (Index piece : seam_pieces_[1].at(key))
+        if (verdicts_[1][components_[1][piece]].inside == 0) b_out = components_[1][piece];
+      if (a_in != kInvalidIndex && b_out != kInvalidIndex) pairs.emplace_back(a_in, b_out);
+    }
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (const auto& [a, b] : pairs) {
+        Verdict &va = verdicts_[0][a], &vb = verdicts_[1][b];
+        if (va.seat_keep != vb.seat_drop) {
+          va.seat_keep = vb.seat_drop = false;
+          changed = true;
+        }
+      }
+    }
+  }
+
+  bool keep(int s, const Verdict& v, BooleanOp op) const {
+    const bool inside = v.inside == 1;
+    switch (op) {
+    case BooleanOp::Union:
+      if (s == 0 && inside && v.seat_keep) return true;
+      if (s == 1 && !inside && v.seat_drop) return false;
+      return !inside;
+    case BooleanOp::Intersection: return inside;
+    case BooleanOp::Difference: return s == 0 ? !inside : inside;
+    }
+    return false;
+  }
+
+  BooleanResult assemble(BooleanOp op) {
+    BooleanResult result;
+    const std::size_t total = na_ + nb_ + points_.size();
+    std::vector<Index> remap(total, kInvalidIndex);
+    TriangleMesh& out = result.mesh;
+    auto vertex = [&](Index id) {
+      if (remap[id] == kInvalidIndex) {
+        remap[id] = out.vertex_count();
+        Vec3 p = position(id);
+        if (options_.round_to_float) p = p.cast<float>().cast<double>();
+        out.positions.push_back(p);
+      }
+      return remap[id];
+    };
+    auto emit = [&](const Triangle& t, bool reverse, std::uint8_t from_b, Index source) {
+      const Index a = vertex(t[0]), b = vertex(t[1]), c = vertex(t[2]);
+      out.triangles.push_back(reverse ? Triangle{a, c, b} : Triangle{a, b, c});
+      result.from_b.push_back(from_b);
+      result.source_face.push_back(source);
+    };
+    // Faces far from the other operand are outside it.
+    const Verdict far_outside{.exterior = true, .inside = 0};
+    // Faces made or moved here (split pieces, and all of the second operand, whose coordinates are
+    // rounded now) are checked after rounding; unsplit local faces of the first operand only where
+    // they touch those.
+    std::vector<Index> fresh, unchanged;
+    for (int s = 0; s < 2; ++s) {
+      const bool reverse = op == BooleanOp::Difference && s == 1;
+      const TriangleMesh& m = mesh(s);
+      if (keep(s, far_outside, op))
+        for (Index f = 0; f < m.face_count(); ++f)
+          if (!local_[s][f]) {
+            const Triangle& t = m.triangles[f];
+            emit({base(s) + t[0], base(s) + t[1], base(s) + t[2]}, reverse, static_cast<std::uint8_t>(s), f);
+          }
+      // keep() is evaluated once per component.
+      std::vector<std::int8_t> kept(verdicts_[s].size(), -1);
+      for (std::size_t i = 0; i < pieces_[s].size(); ++i) {
+        const Index c = components_[s][i];
+        if (kept[c] < 0) kept[c] = keep(s, verdicts_[s][c], op) ? 1 : 0;
+        if (!kept[c]) continue;
+        (s == 1 || split_[s].count(pieces_[s][i].source) ? fresh : unchanged).push_back(out.face_count());
+        emit(pieces_[s][i].t, reverse, static_cast<std::uint8_t>(s), pieces_[s][i].source);
+      }
+    }
+    if (debug_)
+      std::fprintf(stderr, "  local faces %zu + %zu, pairs %zu, fresh %zu\n", pieces_[0].size(), pieces_[1].size(),
+                   seam_.size(), fresh.size());
+    if (options_.round_to_float) {
+      std::vector<std::uint8_t> seam_vertex(out.vertex_count(), 0);
+      for (std::size_t id = na_ + nb_; id < total; ++id)
+        if (remap[id] != kInvalidIndex) seam_vertex[remap[id]] = 1;
+      result.collapsed_edges = collapse_short_edges(result, seam_vertex, short_edge_, fresh, unchanged);
+      if (debug_)
+        std::fprintf(stderr, "  collapsed %zu edges under %.3g\n", result.collapsed_edges, short_edge_);
+    }
+    check_fresh(out, fresh, unchanged);
+    result.intersecting_pairs = seam_.size();
+    result.curve_segments = seam_.size();
+    result.split_faces = split_[0].size() + split_[1].size();
+    return result;
+  }
+
+  // A curve point within a few hundred float ulp of a neighbour makes sliver faces whose planes turn
+  // by whole degrees when their corners are rounded to float32, enough for two nearly tangent faces
+  // to cross. Such edges are collapsed onto their other end (the original vertex when one is), which
+  // moves the curve by less than their length; the link condition keeps the mesh 2-manifold and no
+  // face may turn over. Returns the number of collapses; `fresh` and `unchanged` follow the faces.
+  static std::size_t collapse_short_edges(BooleanResult& r, const std::vector<std::uint8_t>& seam_vertex,
+                                          double min_length, std::vector<Index>& fresh, std::vector<Index>& unchanged) {
+    TriangleMesh& m = r.mesh;
+    std::vector<std::pair<double, std::pair<Index, Index>>> edges;
+    for (Index f : fresh)
+      for (int k = 0; k < 3; ++k) {
+        const Index u = m.triangles[f][k], v = m.triangles[f][(k + 1) % 3];
+        if (u > v || (!seam_vertex[u] && !seam_vertex[v])) continue;
+        const double d2 = (m.positions[u] - m.positions[v]).squaredNorm();
+        if (d2 < min_length * min_length) edges.push_back({d2, {u, v}});
+      }
+    if (edges.empty()) return 0;
+    std::sort(edges.begin(), edges.end());
+    std::unordered_map<Index, std::vector<Index>> faces_of;
+    for (const auto& e : edges) {
+      faces_of[e.second.first];
+      faces_of[e.second.second];
+    }
+    for (Index f = 0; f < m.face_count(); ++f)
+      for (Index v : m.triangles[f]) {
+        const auto it = faces_of.find(v);
+        if (it != faces_of.end()) it->second.push_back(f);
+      }
+    std::vector<std::uint8_t> removed(m.face_count(), 0), gone(m.vertex_count(), 0);
+    std::size_t collapses = 0;
+    auto normal = [&](const Triangle& t) -> Vec3 {
+      return (m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]);
+    };
+    for (const auto& e : edges) {
+      Index keep = e.second.first, drop = e.second.second;
+      if (gone[keep] || gone[drop]) continue;
+      if (seam_vertex[keep] && !seam_vertex[drop]) std::swap(keep, drop);
+      std::vector<Index> shared, others;
+      std::vector<Index> around_drop, around_keep;
+      for (Index f : faces_of[drop]) {
+        if (removed[f]) continue;
+        const Triangle& t = m.triangles[f];
+        if (t[0] == keep || t[1] == keep || t[2] == keep) shared.push_back(f);
+        else others.push_back(f);
+        for (Index w : t)
+          if (w != drop) around_drop.push_back(w);
+      }
+      if (shared.size() != 2) continue;
+      for (Index f : faces_of[keep])
+        if (!removed[f])
+          for (Index w : m.triangles[f])
+            if (w != keep) around_keep.push_back(w);
+      std::sort(around_drop.begin(), around_drop.end());
+      around_drop.erase(std::unique(around_drop.begin(), around_drop.end()), around_drop.end());
+      std::sort(around_keep.begin(), around_keep.end());
+      around_keep.erase(std::unique(around_keep.begin(), around_keep.end()), around_keep.end());
+      std::vector<Index> common;
+      std::set_intersection(around_drop.begin(), around_drop.end(), around_keep.begin(), around_keep.end(),
+                            std::back_inserter(common));
+      if (common.size() != 2) continue; // link condition: only the two opposite corners are shared
+      bool turns = false;
+      for (Index f : others) {
+        Triangle t = m.triangles[f];
+        const Vec3 before = normal(t);
+        for (Index& w : t)
+          if (w == drop) w = keep;
+        const Vec3 after = normal(t);
+        if (!(after.dot(before) > 0.0) || after.squaredNorm() == 0.0) turns = true;
+      }
+      if (turns) continue;
+      for (Index f : shared) removed[f] = 1;
+      for (Index f : others) {
+        for (Index& w : m.triangles[f])
+          if (w == drop) w = keep;
+        faces_of[keep].push_back(f);
+      }
+      gone[drop] = 1;
+      ++collapses;
+    }
+    if (collapses == 0) return 0;
+    // Compact faces and vertices.
+    std::vector<Index> new_face(m.face_count(), kInvalidIndex), new_vertex(m.vertex_count(), kInvalidIndex);
+    TriangleMesh compact;
+    std::vector<std::uint8_t> from_b;
+    std::vector<Index> source;
+    for (Index f = 0; f < m.face_count(); ++f) {
+      if (removed[f]) continue;
+      Triangle t = m.triangles[f];
+      for (Index& w : t) {
+        if (new_vertex[w] == kInvalidIndex) {
+          new_vertex[w] = compact.vertex_count();
+          compact.positions.push_back(m.positions[w]);
+        }
+        w = new_vertex[w];
+      }
+      new_face[f] = compact.face_count();
+      compact.triangles.push_back(t);
+      from_b.push_back(r.from_b[f]);
+      source.push_back(r.source_face[f]);
+    }
+    m = std::move(compact);
+    r.from_b = std::move(from_b);
+    r.source_face = std::move(source);
+    for (std::vector<Index>* list : {&fresh, &unchanged}) {
+      std::vector<Index> kept;
+      for (Index f : *list)
+        if (new_face[f] != kInvalidIndex) kept.push_back(new_face[f]);
+      *list = std::move(kept);
+    }
+    return collapses;
+  }
+
+  // After rounding, the faces near the curves must still be proper triangles that do not cross each
+  // other or the unchanged faces around them.
+  void check_fresh(const TriangleMesh& out, const std::vector<Index>& fresh, const std::vector<Index>& unchanged) const {
+    for (Index f : fresh) {
+      const Triangle& t = out.triangles[f];
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) throw Degenerate{"two corners rounded together"};
+      const Vec3 n = (out.positions[t[1]] - out.positions[t[0]]).cross(out.positions[t[2]] - out.positions[t[0]]);
+      if (n.squaredNorm() == 0.0) throw Degenerate{"a triangle rounded flat"};
+    }
+    if (fresh.empty()) return;
+    auto test = [&](Index f, Index g) {
+      const Triangle &ta = out.triangles[f], &tb = out.triangles[g];
+      const std::array<Vec3, 3> pa = {out.positions[ta[0]], out.positions[ta[1]], out.positions[ta[2]]};
+      const std::array<Vec3, 3> pb = {out.positions[tb[0]], out.positions[tb[1]], out.positions[tb[2]]};
+      if (mesh_triangles_intersect(ta, pa, tb, pb)) {
+        if (debug_) {
+          std::fprintf(stderr, "  crossing faces %u and %u:\n", f, g);
+          for (const auto* p : {&pa, &pb})
+            std::fprintf(stderr, "    (%.9g %.9g %.9g) (%.9g %.9g %.9g) (%.9g %.9g %.9g)\n", (*p)[0].x(), (*p)[0].y(),
+                         (*p)[0].z(), (*p)[1].x(), (*p)[1].y(), (*p)[1].z(), (*p)[2].x(), (*p)[2].y(), (*p)[2].z());
+          std::fprintf(stderr, "    ids %u %u %u / %u %u %u\n", ta[0], ta[1], ta[2], tb[0], tb[1], tb[2]);
+        }
+        throw Degenerate{"faces near the intersection curve cross after rounding, near " + detail::where(pa[0])};
+      }
+    };
+    const AabbTree tree(out, fresh);
+    tree.for_each_overlapping_pair(test);
+    std::vector<std::uint8_t> touched(out.vertex_count(), 0);
+    for (Index f : fresh)
+      for (Index v : out.triangles[f]) touched[v] = 1;
+    for (Index g : unchanged) {
+      const Triangle& t = out.triangles[g];
+      if (!touched[t[0]] && !touched[t[1]] && !touched[t[2]]) continue;
+      tree.for_each_in_box(triangle_box(out, g), [&](Index f) { test(f, g); });
+    }
+  }
+
+  const TriangleMesh& a_;
+  const TriangleMesh& b_;
+  const BooleanOptions& options_;
+  const Index na_, nb_;
+  const double short_edge_;
+  const bool debug_ = std::getenv("ST_DEBUG_BOOLEAN") != nullptr; // phase times and failures to stderr
+  std::vector<Vec3> points_;
+  std::vector<double> point_t_;
+  std::unordered_map<PointKey, Index, PointKeyHash> point_index_;
+  std::unordered_map<Index, FaceWork> work_[2];
+  std::unordered_map<Index, std::vector<Triangle>> split_[2];
+  std::vector<SeamSegment> seam_;
+  std::unordered_set<std::uint64_t> seam_edges_; // edge keys of seam_, for both sides' classification
+  std::vector<std::uint8_t> local_[2];
+  std::vector<Piece> pieces_[2];
+  std::vector<Index> components_[2];
+  std::vector<Verdict> verdicts_[2];
+  std::unordered_map<std::uint64_t, std::array<Index, 2>> seam_pieces_[2]; // curve edge -> its two pieces
+};
+
+} // namespace
+
+BooleanResult corefine(const TriangleMesh& a, const TriangleMesh& b, BooleanOp op, const BooleanOptions& options,
+                       double short_edge) {
+  return Corefinement(a, b, options, short_edge).run(op);
+}
+
+} // namespace st::boolean_detail

@@ -1,0 +1,127 @@
+// The regions of the Boolean's operands: oriented boxes of components, the faces near them, and the
+// ray-parity inside test.
+
+#include "boolean/corefinement.h"
+
+#include "st/core/ray_triangle.h"
+#include "st/core/union_find.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <optional>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace st::boolean_detail {
+
+std::vector<OrientedBox> component_boxes(const TriangleMesh& mesh) {
+  UnionFind uf(mesh.vertex_count());
+  for (const Triangle& t : mesh.triangles) {
+    uf.join(t[0], t[1]);
+    uf.join(t[1], t[2]);
+  }
+  std::unordered_map<Index, std::vector<Index>> members;
+  std::vector<std::uint8_t> used(mesh.vertex_count(), 0);
+  for (const Triangle& t : mesh.triangles)
+    for (Index v : t)
+      if (!used[v]) {
+        used[v] = 1;
+        members[uf.find(v)].push_back(v);
+      }
+  std::vector<OrientedBox> out;
+  for (auto& [root, vertices] : members) {
+    OrientedBox box;
+    Vec3 mean = Vec3::Zero();
+    for (Index v : vertices) {
+      mean += mesh.positions[v];
+      box.world.extend(mesh.positions[v]);
+    }
+    mean /= static_cast<double>(vertices.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (Index v : vertices) {
+      const Vec3 d = mesh.positions[v] - mean;
+      cov += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(cov);
+    box.axes = eigen.eigenvectors().transpose();
+    if (!box.axes.allFinite()) box.axes.setIdentity();
+    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+    for (Index v : vertices) {
+      const Vec3 q = box.axes * (mesh.positions[v] - mean);
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    box.centre = mean + box.axes.transpose() * (0.5 * (lo + hi));
+    box.half = 0.5 * (hi - lo);
+    out.push_back(box);
+  }
+  std::sort(out.begin(), out.end(), [](const OrientedBox& a, const OrientedBox& b) {
+    return std::tie(a.world.min[0], a.world.min[1], a.world.min[2]) <
+           std::tie(b.world.min[0], b.world.min[1], b.world.min[2]);
+  });
+  return out;
+}
+
+// Faces that meet one of `boxes`: every face that can cross or lie inside the other operand. The
+// margin covers the rounding of the box's frame.
+std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<OrientedBox>& boxes) {
+  BoundingBox all;
+  double size = 0.0;
+  for (const OrientedBox& b : boxes) {
+    all.extend(b.world);
+    size = std::max(size, b.world.diagonal());
+  }
+  const double margin = 1e-9 * (size + all.max.cwiseAbs().maxCoeff() + all.min.cwiseAbs().maxCoeff());
+  all = all.inflated(margin);
+  std::vector<Index> out;
+  for (Index f = 0; f < mesh.face_count(); ++f) {
+    const BoundingBox box = triangle_box(mesh, f);
+    if (!box.overlaps(all)) continue;
+    const Triangle& t = mesh.triangles[f];
+    const std::array<Vec3, 3> corners = {mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]};
+    for (const OrientedBox& b : boxes)
+      if (box.overlaps(b.world.inflated(margin)) && b.overlaps(corners, margin)) {
+        out.push_back(f);
+        break;
+      }
+  }
+  return out;
+}
+
+bool inside_by_rays(const Vec3& p, const TriangleMesh& mesh) {
+  static const Vec3 directions[] = {Vec3(0.5773, 0.5774, 0.5775), Vec3(-0.3119, 0.8421, -0.4399),
+                                    Vec3(0.7071, -0.1213, 0.6965), Vec3(-0.6213, -0.5524, 0.5557),
+                                    Vec3(0.1234, -0.9321, -0.3402)};
+  int votes_inside = 0, votes = 0;
+  for (const Vec3& raw : directions) {
+    const Vec3 d = raw.normalized();
+    int crossings = 0;
+    bool grazing = false;
+    for (const Triangle& t : mesh.triangles) {
+      const auto hit = ray_triangle(p, d, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]], 1e-12);
+      if (!hit || hit->t < -1e-12) continue;
+      const auto [t_hit, u, v] = *hit;
+      if (u < 1e-9 || v < 1e-9 || u + v > 1.0 - 1e-9 || std::abs(t_hit) < 1e-12) {
+        grazing = true;
+        break;
+      }
+      ++crossings;
+    }
+    if (grazing) continue;
+    ++votes;
+    votes_inside += crossings % 2;
+    if (votes >= 3) break;
+  }
+  if (votes == 0) throw Degenerate{"every ray grazes an edge"};
+  return 2 * votes_inside > votes;
+}
+
+} // namespace st::boolean_detail

@@ -1,0 +1,228 @@
+#include "st/core/aabb_tree.h"
+
+#include "st/core/closest_point.h"
+#include "st/core/ray_triangle.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace st {
+
+namespace {
+
+double box_distance_squared(const BoundingBox& b, const Vec3& p) {
+  const Vec3 d = (b.min - p).cwiseMax(p - b.max).cwiseMax(Vec3::Zero());
+  return d.squaredNorm();
+}
+
+bool ray_hits_box(const BoundingBox& b, const Vec3& o, const Vec3& inv_dir, double t0, double t1) {
+  for (int k = 0; k < 3; ++k) {
+    double ta = (b.min[k] - o[k]) * inv_dir[k];
+    double tb = (b.max[k] - o[k]) * inv_dir[k];
+    if (ta > tb) std::swap(ta, tb);
+    if (std::isnan(ta) || std::isnan(tb)) continue; // ray parallel and on the slab border
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+} // namespace
+
+AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces)
+    : mesh_(mesh), faces_(std::move(faces)) {
+  if (faces_.empty()) {
+    faces_.resize(mesh.face_count());
+    std::iota(faces_.begin(), faces_.end(), Index{0});
+  }
+  if (faces_.empty()) return;
+  std::vector<Item> items(faces_.size());
+  for (std::size_t i = 0; i < faces_.size(); ++i) {
+    items[i].box = triangle_box(mesh, faces_[i]);
+    items[i].centre = items[i].box.center();
+    items[i].face = faces_[i];
+  }
+  nodes_.reserve(faces_.size() / 2 + 1);
+  build(items, 0, static_cast<Index>(items.size()));
+  face_boxes_.resize(items.size());
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    faces_[i] = items[i].face;
+    face_boxes_[i] = items[i].box;
+  }
+}
+
+Index AabbTree::build(std::vector<Item>& items, Index begin, Index end) {
+  const Index id = static_cast<Index>(nodes_.size());
+  nodes_.emplace_back();
+  BoundingBox box;
+  for (Index i = begin; i < end; ++i) box.extend(items[i].box);
+  nodes_[id].box = box;
+  if (end - begin <= 4) {
+    nodes_[id].begin = begin;
+    nodes_[id].end = end;
+    return id;
+  }
+  int axis = 0;
+  box.size().maxCoeff(&axis);
+  const Index mid = begin + (end - begin) / 2;
+  std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                   [axis](const Item& x, const Item& y) { return x.centre[axis] < y.centre[axis]; });
+  const Index left = build(items, begin, mid);
+  const Index right = build(items, mid, end);
+  nodes_[id].left = left;
+  nodes_[id].right = right;
+  return id;
+}
+
+std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_distance) const {
+  if (nodes_.empty()) return std::nullopt;
+  double best = max_distance * max_distance;
+  ClosestPoint result;
+  bool found = false;
+  // Depth-first, nearer child first.
+  Index stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[stack[--top]];
+    if (box_distance_squared(n.box, p) > best) continue;
+    if (n.left == kInvalidIndex) {
+      for (Index i = n.begin; i < n.end; ++i) {
+        const Triangle& t = mesh_.triangles[faces_[i]];
+        const Vec3 q = closest_point_on_triangle(p, mesh_.positions[t[0]], mesh_.positions[t[1]],
+                                                 mesh_.positions[t[2]]);
+        const double d2 = (q - p).squaredNorm();
+        if (d2 <= best) {
+          best = d2;
+          result.face = faces_[i];
+          result.point = q;
+          found = true;
+        }
+      }
+      continue;
+    }
+    const double dl = box_distance_squared(nodes_[n.left].box, p);
+    const double dr = box_distance_squared(nodes_[n.right].box, p);
+    if (dl < dr) {
+      stack[top++] = n.right;
+      stack[top++] = n.left;
+    } else {
+      stack[top++] = n.left;
+      stack[top++] = n.right;
+    }
+  }
+  if (!found) return std::nullopt;
+  result.distance = std::sqrt(best);
+  return result;
+}
+
+std::optional<RayHit> AabbTree::first_hit(const Vec3& origin, const Vec3& direction, double t_min,
+                                          double t_max) const {
+  if (nodes_.empty()) return std::nullopt;
+  const Vec3 inv = direction.cwiseInverse();
+  RayHit hit;
+  bool found = false;
+  Index stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[stack[--top]];
+    if (!ray_hits_box(n.box, origin, inv, t_min, t_max)) continue;
+    if (n.left == kInvalidIndex) {
+      for (Index i = n.begin; i < n.end; ++i) {
+        const Triangle& t = mesh_.triangles[faces_[i]];
+        const auto s = ray_triangle(origin, direction, mesh_.positions[t[0]], mesh_.positions[t[1]],
+                                    mesh_.positions[t[2]]);
+        if (s && s->t >= t_min && s->t <= t_max) {
+          t_max = s->t;
+          hit.face = faces_[i];
+          hit.t = s->t;
+          found = true;
+        }
+      }
+      continue;
+    }
+    stack[top++] = n.left;
+    stack[top++] = n.right;
+  }
+  if (!found) return std::nullopt;
+  hit.point = origin + hit.t * direction;
+  return hit;
+}
+
+void AabbTree::for_each_in_box(const BoundingBox& box, const std::function<void(Index)>& visit) const {
+  if (nodes_.empty()) return;
+  Index stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[stack[--top]];
+    if (!n.box.overlaps(box)) continue;
+    if (n.left == kInvalidIndex) {
+      for (Index i = n.begin; i < n.end; ++i)
+        if (face_boxes_[i].overlaps(box)) visit(faces_[i]);
+      continue;
+    }
+    stack[top++] = n.left;
+    stack[top++] = n.right;
+  }
+}
+
+void AabbTree::self_pairs(Index a, Index b, const std::function<void(Index, Index)>& visit) const {
+  const Node& na = nodes_[a];
+  const Node& nb = nodes_[b];
+  if (a != b && !na.box.overlaps(nb.box)) return;
+  const bool la = na.left == kInvalidIndex, lb = nb.left == kInvalidIndex;
+  if (la && lb) {
+    for (Index i = na.begin; i < na.end; ++i)
+      for (Index j = (a == b ? i + 1 : nb.begin); j < nb.end; ++j)
+        if (face_boxes_[i].overlaps(face_boxes_[j])) visit(faces_[i], faces_[j]);
+    return;
+  }
+  if (a == b) {
+    self_pairs(na.left, na.left, visit);
+    self_pairs(na.right, na.right, visit);
+    self_pairs(na.left, na.right, visit);
+    return;
+  }
+  if (lb || (!la && na.box.diagonal() >= nb.box.diagonal())) {
+    self_pairs(na.left, b, visit);
+    self_pairs(na.right, b, visit);
+  } else {
+    self_pairs(a, nb.left, visit);
+    self_pairs(a, nb.right, visit);
+  }
+}
+
+void AabbTree::for_each_overlapping_pair(const std::function<void(Index, Index)>& visit) const {
+  if (!nodes_.empty()) self_pairs(0, 0, visit);
+}
+
+void AabbTree::cross_pairs(Index a, const AabbTree& other, Index b,
+                           const std::function<void(Index, Index)>& visit) const {
+  const Node& na = nodes_[a];
+  const Node& nb = other.nodes_[b];
+  if (!na.box.overlaps(nb.box)) return;
+  const bool la = na.left == kInvalidIndex, lb = nb.left == kInvalidIndex;
+  if (la && lb) {
+    for (Index i = na.begin; i < na.end; ++i)
+      for (Index j = nb.begin; j < nb.end; ++j)
+        if (face_boxes_[i].overlaps(other.face_boxes_[j])) visit(faces_[i], other.faces_[j]);
+    return;
+  }
+  if (lb || (!la && na.box.diagonal() >= nb.box.diagonal())) {
+    cross_pairs(na.left, other, b, visit);
+    cross_pairs(na.right, other, b, visit);
+  } else {
+    cross_pairs(a, other, nb.left, visit);
+    cross_pairs(a, other, nb.right, visit);
+  }
+}
+
+void AabbTree::for_each_overlapping_pair(const AabbTree& other,
+                                         const std::function<void(Index, Index)>& visit) const {
+  if (!nodes_.empty() && !other.nodes_.empty()) cross_pairs(0, other, 0, visit);
+}
+
+} // namespace st

@@ -1,0 +1,108 @@
+#include "st/core/topology.h"
+#include "detail/format.h"
+
+#include "st/core/errors.h"
+
+#include <numeric>
+#include <string>
+
+namespace st {
+
+MeshTopology::MeshTopology(const TriangleMesh& mesh) : mesh_(mesh) {
+  const Index nv = mesh.vertex_count();
+  offsets_.assign(static_cast<std::size_t>(nv) + 1, 0);
+  for (const Triangle& t : mesh.triangles)
+    for (Index v : t) ++offsets_[v + 1];
+  std::partial_sum(offsets_.begin(), offsets_.end(), offsets_.begin());
+  face_list_.resize(offsets_.back());
+  std::vector<Index> fill(offsets_.begin(), offsets_.end() - 1);
+  for (Index f = 0; f < mesh.face_count(); ++f)
+    for (Index v : mesh.triangles[f]) face_list_[fill[v]++] = f;
+}
+
+Index MeshTopology::opposite(Index h) const {
+  const Index f = h / 3;
+  const Index a = from_vertex(h);
+  const Index b = to_vertex(h);
+  Index found = kInvalidIndex;
+  int reverse = 0;
+  int same = 0;
+  for (Index g : faces_of(b)) {
+    if (g == f) continue;
+    const Triangle& t = mesh_.triangles[g];
+    // Where b sits in g; then b -> a follows it, or a -> b precedes it.
+    const Index k = t[0] == b ? 0 : (t[1] == b ? 1 : 2);
+    if (t[(k + 1) % 3] == a) {
+      ++reverse;
+      found = 3 * g + k;
+    } else if (t[(k + 2) % 3] == a) {
+      ++same;
+    }
+  }
+  return (reverse == 1 && same == 0) ? found : kInvalidIndex;
+}
+
+std::vector<Index> MeshTopology::all_opposites() const {
+  std::vector<Index> opp(static_cast<std::size_t>(mesh_.face_count()) * 3);
+  for (Index h = 0; h < opp.size(); ++h) opp[h] = opposite(h);
+  return opp;
+}
+
+std::vector<std::vector<Index>> border_loops(const TriangleMesh& mesh,
+                                             const std::vector<Index>& opposites) {
+  // Outgoing border half-edge per vertex.
+  std::vector<Index> outgoing(mesh.vertex_count(), kInvalidIndex);
+  for (Index h = 0; h < opposites.size(); ++h) {
+    if (opposites[h] != kInvalidIndex) continue;
+    const Index v = mesh.triangles[h / 3][h % 3];
+    if (outgoing[v] != kInvalidIndex) {
+      const Vec3& p = mesh.positions[v];
+      throw GeometryError("mesh border is not simple at vertex " + std::to_string(v) + " (" +
+                          detail::number(p.x()) + ", " + detail::number(p.y()) + ", " +
+                          detail::number(p.z()) + "): two border fans meet there");
+    }
+    outgoing[v] = h;
+  }
+  std::vector<std::vector<Index>> loops;
+  std::vector<char> used(opposites.size(), 0);
+  for (Index h0 = 0; h0 < opposites.size(); ++h0) {
+    if (opposites[h0] != kInvalidIndex || used[h0]) continue;
+    std::vector<Index> loop;
+    Index h = h0;
+    while (!used[h]) {
+      used[h] = 1;
+      loop.push_back(mesh.triangles[h / 3][h % 3]);
+      const Index to = mesh.triangles[h / 3][(h % 3 + 1) % 3];
+      h = outgoing[to];
+      if (h == kInvalidIndex) throw GeometryError("mesh border is broken at vertex " + std::to_string(to));
+    }
+    loops.push_back(std::move(loop));
+  }
+  return loops;
+}
+
+std::size_t component_count(const TriangleMesh& mesh, const std::vector<Index>& opposites) {
+  std::vector<char> seen(mesh.face_count(), 0);
+  std::vector<Index> stack;
+  std::size_t count = 0;
+  for (Index f0 = 0; f0 < mesh.face_count(); ++f0) {
+    if (seen[f0]) continue;
+    ++count;
+    seen[f0] = 1;
+    stack.push_back(f0);
+    while (!stack.empty()) {
+      const Index f = stack.back();
+      stack.pop_back();
+      for (int k = 0; k < 3; ++k) {
+        const Index o = opposites[3 * f + k];
+        if (o != kInvalidIndex && !seen[o / 3]) {
+          seen[o / 3] = 1;
+          stack.push_back(o / 3);
+        }
+      }
+    }
+  }
+  return count;
+}
+
+} // namespace st

@@ -1,0 +1,271 @@
+#include "st/design/cut.h"
+
+#include "st/core/aabb_tree.h"
+#include "detail/format.h"
+#include "st/core/errors.h"
+
+#include <algorithm>
+#include <deque>
+#include <unordered_map>
+
+namespace st {
+
+namespace {
+
+using detail::where;
+
+std::uint64_t edge_key(Index a, Index b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(a) << 32) | b;
+}
+
+struct EdgeCut {
+  std::vector<double> t; // crossing parameters from the lower to the higher vertex index
+  int left_vote = 0;     // > 0: the higher vertex lies left of the curve
+  Index new_vertex = kInvalidIndex;
+  [[nodiscard]] bool odd() const { return t.size() % 2 == 1; }
+};
+
+constexpr signed char kLeft = 1, kRight = -1;
+
+} // namespace
+
+CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, const CutOptions& options) {
+  const TriangleMesh& mesh = topology.mesh();
+  if (curve.crossings.empty())
+    throw GeometryError("the boundary curve encloses no mesh vertex: it lies within a single triangle");
+
+  // 1. Crossings per edge; odd ones are cut.
+  std::unordered_map<std::uint64_t, EdgeCut> cuts;
+  cuts.reserve(curve.crossings.size() * 2);
+  for (const EdgeCrossing& c : curve.crossings) {
+    const Index u = topology.from_vertex(c.halfedge), v = topology.to_vertex(c.halfedge);
+    EdgeCut& e = cuts[edge_key(u, v)];
+    e.t.push_back(u < v ? c.t : 1.0 - c.t);
+    // Leaving the face through u -> v: v is on the left of the curve.
+    e.left_vote += (v > u) ? 1 : -1;
+  }
+
+  std::vector<signed char> side(mesh.vertex_count(), 0);
+  std::vector<signed char> face_state(mesh.face_count(), 0); // 0 unseen, +-1 flooded side, 2 cut
+  constexpr signed char kCutFace = 2;
+  std::vector<Index> cut_faces;
+  auto label = [&](Index v, signed char s, const Vec3& at) {
+    if (side[v] == -s)
+      throw GeometryError("the boundary curve does not separate the surface cleanly near " + where(at) +
+                          ": it touches or crosses itself there");
+    side[v] = s;
+  };
+  for (const EdgeCrossing& c : curve.crossings) {
+    const Index u = topology.from_vertex(c.halfedge), v = topology.to_vertex(c.halfedge);
+    const EdgeCut& e = cuts[edge_key(u, v)];
+    if (!e.odd()) continue;
+    const Index lo = std::min(u, v), hi = std::max(u, v);
+    const Vec3 at = mesh.positions[lo];
+    label(e.left_vote > 0 ? hi : lo, kLeft, at);
+    label(e.left_vote > 0 ? lo : hi, kRight, at);
+    for (Index h : {c.halfedge, topology.opposite(c.halfedge)}) {
+      if (h == kInvalidIndex) continue;
+      if (face_state[h / 3] != kCutFace) {
+        face_state[h / 3] = kCutFace;
+        cut_faces.push_back(h / 3);
+      }
+    }
+  }
+  if (cut_faces.empty())
+    throw GeometryError("the boundary curve crosses every mesh edge an even number of times: it encloses "
+                        "no region (near " + where(curve.polyline.front()) + ")");
+
+  auto is_cut_edge = [&](Index h) {
+    const auto it = cuts.find(edge_key(topology.from_vertex(h), topology.to_vertex(h)));
+    return it != cuts.end() && it->second.odd();
+  };
+
+  // 2. Flood both sides from the cut faces, the side with less area first; the first to close wins.
+  std::deque<Index> queue[2]; // [0]: left, [1]: right
+  std::vector<Index> flooded[2]; // whole faces taken by each side
+  double area[2] = {0.0, 0.0};
+  std::size_t border_edges[2] = {0, 0};
+  Vec3 border_at[2] = {Vec3::Zero(), Vec3::Zero()};
+  auto q = [](signed char s) { return s == kLeft ? 0 : 1; };
+  auto reach = [&](Index h, signed char s) {
+    const Index o = topology.opposite(h);
+    if (o == kInvalidIndex) {
+      if (border_edges[q(s)]++ == 0)
+        border_at[q(s)] = 0.5 * (mesh.positions[topology.from_vertex(h)] + mesh.positions[topology.to_vertex(h)]);
+      return;
+    }
+    const Index g = o / 3;
+    if (face_state[g] == 0) {
+      face_state[g] = s;
+      queue[q(s)].push_back(g);
+    } else if (face_state[g] == -s) {
+      throw GeometryError("the boundary curve does not separate the surface: both sides connect near " +
+                          where(mesh.positions[mesh.triangles[g][0]]) +
+                          " (the loop runs around a handle or through a hole of the mesh)");
+    }
+  };
+  for (Index f : cut_faces) {
+    int odd = 0;
+    for (Index k = 0; k < 3; ++k) odd += is_cut_edge(3 * f + k);
+    if (odd != 2)
+      throw GeometryError("the boundary curve does not separate the surface cleanly near " +
+                          where(mesh.positions[mesh.triangles[f][0]]));
+    for (Index k = 0; k < 3; ++k)
+      if (!is_cut_edge(3 * f + k)) reach(3 * f + k, side[mesh.triangles[f][k]]);
+  }
+  auto pop = [&](int qi) {
+    const signed char s = qi == 0 ? kLeft : kRight;
+    const Index f = queue[qi].front();
+    queue[qi].pop_front();
+    flooded[qi].push_back(f);
+    area[qi] += 0.5 * triangle_normal(mesh, f).norm();
+    for (Index v : mesh.triangles[f]) {
+      if (side[v] == -s)
+        throw GeometryError("the boundary curve does not separate the surface: both sides meet at " +
+                            where(mesh.positions[v]));
+      side[v] = s;
+    }
+    for (Index k = 0; k < 3; ++k) reach(3 * f + k, s);
+  };
+
+  // Where is the inside point?
+  Index inside_face = options.inside_face;
+  if (options.inside && inside_face == kInvalidIndex) {
+    double best = std::numeric_limits<double>::infinity();
+    for (Index f : curve.local_faces) {
+      const Triangle& t = mesh.triangles[f];
+      const Vec3 c = closest_point_on_triangle(*options.inside, mesh.positions[t[0]], mesh.positions[t[1]],
+                                               mesh.positions[t[2]]);
+      const double d = (c - *options.inside).squaredNorm();
+      if (d < best) {
+        best = d;
+        inside_face = f;
+      }
+    }
+  }
+  auto inside_side = [&]() -> signed char {
+    if (inside_face == kInvalidIndex) return 0;
+    if (face_state[inside_face] != kCutFace) return face_state[inside_face];
+    // On a cut face: the side of its nearest vertex.
+    const Triangle& t = mesh.triangles[inside_face];
+    Index best = t[0];
+    for (Index v : t)
+      if ((mesh.positions[v] - *options.inside).squaredNorm() < (mesh.positions[best] - *options.inside).squaredNorm())
+        best = v;
+    return side[best];
+  };
+
+  int closed = -1;
+  while (closed < 0) {
+    const bool l = !queue[0].empty(), r = !queue[1].empty();
+    if (!l) closed = 0;
+    else if (!r) closed = 1;
+    else pop(area[0] <= area[1] ? 0 : 1);
+  }
+  signed char keep = closed == 0 ? kLeft : kRight;
+  if (options.inside) {
+    signed char s = inside_side();
+    if (s != keep) {
+      keep = -keep;
+      while (!queue[q(keep)].empty()) pop(q(keep));
+      s = inside_side();
+      if (s != keep)
+        throw GeometryError("the inside point " + where(*options.inside) +
+                            " is not on the surface the boundary curve lies on");
+    }
+  }
+  if (options.require_closed_region && border_edges[q(keep)] > 0)
+    throw GeometryError("the region inside the boundary contains a hole or an open edge of the mesh (" +
+                        std::to_string(border_edges[q(keep)]) + " border edges, e.g. near " +
+                        where(border_at[q(keep)]) +
+                        "): move the boundary around it or repair the mesh");
+
+  // 3. Assemble the region: whole faces of the kept side plus the kept parts of the cut faces.
+  CutResult result;
+  std::unordered_map<Index, Index> new_index;
+  auto vertex = [&](Index v) {
+    auto [it, inserted] = new_index.try_emplace(v, static_cast<Index>(result.region.positions.size()));
+    if (inserted) {
+      result.region.positions.push_back(mesh.positions[v]);
+      result.source_vertex.push_back(v);
+      result.source.push_back({{v, v}, 0.0});
+    }
+    return it->second;
+  };
+  auto cut_vertex = [&](Index a, Index b) {
+    EdgeCut& e = cuts[edge_key(a, b)];
+    if (e.new_vertex == kInvalidIndex) {
+      std::vector<double> ts = e.t;
+      std::nth_element(ts.begin(), ts.begin() + static_cast<std::ptrdiff_t>(ts.size() / 2), ts.end());
+      const double t = ts[ts.size() / 2];
+      const Index lo = std::min(a, b), hi = std::max(a, b);
+      e.new_vertex = static_cast<Index>(result.region.positions.size());
+      result.region.positions.push_back((1.0 - t) * mesh.positions[lo] + t * mesh.positions[hi]);
+      result.source_vertex.push_back(kInvalidIndex);
+      result.source.push_back({{lo, hi}, t});
+    }
+    return e.new_vertex;
+  };
+  auto& tris = result.region.triangles;
+  auto& pos = result.region.positions;
+  auto emit = [&](Index a, Index b, Index c) { tris.push_back({a, b, c}); };
+
+  // The kept parts of the cut faces.
+  for (Index f : cut_faces) {
+    const Triangle& t = mesh.triangles[f];
+    int kept = 0;
+    for (Index v : t) kept += side[v] == keep;
+    if (kept == 1) {
+      int r = 0;
+      while (side[t[r]] != keep) ++r;
+      const Index a = t[r], b = t[(r + 1) % 3], c = t[(r + 2) % 3];
+      const Index va = vertex(a), x1 = cut_vertex(a, b), x2 = cut_vertex(c, a);
+      emit(va, x1, x2);
+    } else {
+      int r = 0;
+      while (side[t[r]] == keep) ++r; // the dropped vertex
+      const Index a = t[r], b = t[(r + 1) % 3], c = t[(r + 2) % 3];
+      const Index x1 = cut_vertex(a, b), vb = vertex(b), vc = vertex(c), x2 = cut_vertex(c, a);
+      if ((pos[x1] - pos[vc]).squaredNorm() <= (pos[vb] - pos[x2]).squaredNorm()) {
+        emit(x1, vb, vc);
+        emit(x1, vc, x2);
+      } else {
+        emit(x1, vb, x2);
+        emit(vb, vc, x2);
+      }
+    }
+  }
+  // Whole faces of the kept side, as the flood took them.
+  for (Index f : flooded[q(keep)]) {
+    const Triangle& t = mesh.triangles[f];
+    emit(vertex(t[0]), vertex(t[1]), vertex(t[2]));
+  }
+  result.area = surface_area(result.region);
+
+  // 4. The rim: the border loop made of cut vertices.
+  const MeshTopology region_topology(result.region);
+  const auto loops = border_loops(result.region, region_topology.all_opposites());
+  int rim = -1;
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    bool all_cut = true;
+    for (Index v : loops[i]) all_cut = all_cut && result.source_vertex[v] == kInvalidIndex;
+    if (!all_cut) continue;
+    if (rim >= 0)
+      throw GeometryError("the boundary curve cuts the surface into more than one border loop near " +
+                          where(pos[loops[i][0]]));
+    rim = static_cast<int>(i);
+  }
+  if (rim < 0) throw GeometryError("the cut region has no border along the boundary curve");
+  if (options.require_closed_region && loops.size() > 1) {
+    for (std::size_t i = 0; i < loops.size(); ++i)
+      if (static_cast<int>(i) != rim)
+        throw GeometryError("the region inside the boundary has an extra border (a hole or a non-manifold "
+                            "edge of the mesh) near " + where(pos[loops[i][0]]) +
+                            ": move the boundary around it or repair the mesh");
+  }
+  result.rim = loops[static_cast<std::size_t>(rim)];
+  return result;
+}
+
+} // namespace st

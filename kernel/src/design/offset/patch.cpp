@@ -1,0 +1,126 @@
+#include "design/offset/patch.h"
+#include "design/offset/sparse_grid.h"
+
+#include "detail/parallel.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace st::offset_detail {
+
+Patch build_patch(const TriangleMesh& mesh, bool with_pseudo_normals) {
+  Patch patch;
+  patch.mesh = &mesh;
+  const std::size_t nf = mesh.triangles.size();
+  patch.triangles.resize(nf);
+  patch.face_normals.resize(nf);
+  patch.side_normals.assign(nf, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  patch.edge_of.resize(3 * nf);
+  for (std::size_t t = 0; t < nf; ++t) {
+    const Triangle& tri = mesh.triangles[t];
+    TriangleGeometry& g = patch.triangles[t];
+    g = triangle_geometry(mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]);
+    patch.face_normals[t] = g.normal;
+    if (!g.degenerate) {
+      const std::array<Vec3, 3> q = {g.a, g.a + g.ab, g.a + g.ac};
+      for (int k = 0; k < 3; ++k) patch.side_normals[t][k] = (q[(k + 1) % 3] - q[k]).cross(g.normal).normalized();
+    }
+    patch.area += 0.5 * g.ab.cross(g.ac).norm();
+  }
+
+  HashMap64 edge_ids(3 * nf / 2 + 16);
+  std::vector<std::int32_t> edge_uses;
+  std::vector<double> edge_length;
+  for (std::size_t t = 0; t < nf; ++t) {
+    const Triangle& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      const Index u = tri[k];
+      const Index v = tri[(k + 1) % 3];
+      const std::uint64_t key = (static_cast<std::uint64_t>(std::min(u, v)) << 32) | std::max(u, v);
+      const auto [id, is_new] = edge_ids.insert(key, static_cast<std::int32_t>(edge_uses.size()));
+      if (is_new) {
+        edge_uses.push_back(0);
+        edge_length.push_back((mesh.positions[u] - mesh.positions[v]).norm());
+      }
+      ++edge_uses[id];
+      patch.edge_of[3 * t + k] = id;
+    }
+  }
+  patch.border_edge.assign(edge_uses.size(), 0);
+  patch.border_vertex.assign(mesh.positions.size(), 0);
+  for (std::size_t e = 0; e < edge_uses.size(); ++e)
+    if (edge_uses[e] == 1) {
+      patch.border_length += edge_length[e];
+      patch.border_edge[e] = 1;
+    }
+  for (std::size_t c = 0; c < 3 * nf; ++c)
+    if (patch.border_edge[patch.edge_of[c]]) {
+      patch.border_vertex[mesh.triangles[c / 3][c % 3]] = 1;
+      patch.border_vertex[mesh.triangles[c / 3][(c + 1) % 3]] = 1;
+    }
+
+  // Compressed rows: vertex -> triangles, edge -> triangles.
+  auto build_rows = [nf](std::size_t rows, auto&& row_of, std::vector<Index>& offsets, std::vector<Index>& items) {
+    offsets.assign(rows + 1, 0);
+    for (std::size_t c = 0; c < 3 * nf; ++c) ++offsets[row_of(c) + 1];
+    for (std::size_t r = 0; r < rows; ++r) offsets[r + 1] += offsets[r];
+    items.resize(offsets[rows]);
+    std::vector<Index> fill(offsets.begin(), offsets.end() - 1);
+    for (std::size_t c = 0; c < 3 * nf; ++c) items[fill[row_of(c)]++] = static_cast<Index>(c / 3);
+  };
+  build_rows(mesh.positions.size(), [&](std::size_t c) { return mesh.triangles[c / 3][c % 3]; },
+             patch.vertex_face_offsets, patch.vertex_faces);
+  build_rows(edge_uses.size(), [&](std::size_t c) { return static_cast<Index>(patch.edge_of[c]); },
+             patch.edge_face_offsets, patch.edge_faces);
+
+  patch.side_slack.assign(nf, {1.0f, 1.0f, 1.0f});
+  for (std::size_t t = 0; t < nf; ++t) {
+    if (patch.triangles[t].degenerate) continue;
+    const Vec3& n = patch.face_normals[t];
+    std::array<double, 3> lowest{}; // smallest cosine to a normal around each corner
+    for (int k = 0; k < 3; ++k) {
+      const Index v = mesh.triangles[t][k];
+      double c = 1.0;
+      for (Index j = patch.vertex_face_offsets[v]; j < patch.vertex_face_offsets[v + 1]; ++j)
+        if (!patch.triangles[patch.vertex_faces[j]].degenerate) c = std::min(c, n.dot(patch.face_normals[patch.vertex_faces[j]]));
+      lowest[k] = c;
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (patch.border_edge[patch.edge_of[3 * t + k]]) continue;
+      const double c = std::min(lowest[k], lowest[(k + 1) % 3]);
+      patch.side_slack[t][k] = c <= 0.0 ? 1.0f : static_cast<float>(std::sqrt(std::max(0.0, 1.0 - c * c)));
+    }
+  }
+
+  if (with_pseudo_normals) {
+    patch.edge_normals.assign(edge_uses.size(), Vec3::Zero());
+    patch.vertex_normals.assign(mesh.positions.size(), Vec3::Zero());
+    for (std::size_t t = 0; t < nf; ++t) {
+      const Vec3& n = patch.face_normals[t];
+      if (patch.triangles[t].degenerate) continue;
+      const Triangle& tri = mesh.triangles[t];
+      for (int k = 0; k < 3; ++k) {
+        patch.edge_normals[patch.edge_of[3 * t + k]] += n;
+        const Vec3 e1 = (mesh.positions[tri[(k + 1) % 3]] - mesh.positions[tri[k]]).normalized();
+        const Vec3 e2 = (mesh.positions[tri[(k + 2) % 3]] - mesh.positions[tri[k]]).normalized();
+        const double angle = std::acos(std::clamp(e1.dot(e2), -1.0, 1.0));
+        patch.vertex_normals[tri[k]] += angle * n;
+      }
+    }
+    for (Vec3& n : patch.edge_normals) n = n.squaredNorm() > 0.0 ? Vec3(n.normalized()) : n;
+    for (Vec3& n : patch.vertex_normals) n = n.squaredNorm() > 0.0 ? Vec3(n.normalized()) : n;
+  }
+  return patch;
+}
+
+
+} // namespace st::offset_detail

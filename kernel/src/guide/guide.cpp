@@ -1,0 +1,283 @@
+#include "st/guide/guide.h"
+
+#include "st/core/aabb_tree.h"
+#include "st/boolean/boolean.h"
+#include "st/core/errors.h"
+#include "st/guide/sleeve.h"
+#include "st/boolean/triangle_intersection.h"
+
+#include "detail/format.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <optional>
+
+namespace st {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Faces of `mesh` whose box meets the box around the tube's axis between heights z0 and z1.
+std::vector<Index> faces_around(const TriangleMesh& mesh, const TubeSpec& tube, double radius, double z0,
+                                double z1) {
+  BoundingBox box;
+  box.extend(tube_point(tube, z0));
+  box.extend(tube_point(tube, z1));
+  box = box.inflated(radius);
+  std::vector<Index> faces;
+  for (Index f = 0; f < mesh.face_count(); ++f)
+    if (triangle_box(mesh, f).overlaps(box)) faces.push_back(f);
+  return faces;
+}
+
+TriangleMesh rounded(TriangleMesh mesh) {
+  for (Vec3& p : mesh.positions) p = p.cast<float>().cast<double>();
+  return mesh;
+}
+
+struct Sample {
+  double radius = 0.0;
+  double angle = 0.0;
+  std::optional<double> enter, exit; // heights where the ray enters and leaves the template
+};
+
+TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const GuideOptions& options) {
+  TubePlacement p;
+  p.name = tube.name;
+  p.sleeve_bottom = tube.offset;
+  p.sleeve_top = tube.offset + tube.length;
+  const Vec3 axis = tube_axis(tube);
+  Vec3 u, v;
+  orthonormal_frame(axis, u, v);
+  // Rays start above the sleeve and look for the template as far below the entry as the sleeve is
+  // wide (steep bone) plus a margin.
+  const double start = p.sleeve_top + options.bore_margin;
+  const double reach = start + 3.0 * tube.outer_radius + 20.0;
+  auto origin_of = [&](const Sample& s) -> Vec3 { // a Vec3, not an Eigen expression of temporaries
+    return tube_point(tube, start) + s.radius * (std::cos(s.angle) * u + std::sin(s.angle) * v);
+  };
+  const AabbTree tree(shell, faces_around(shell, tube, tube.outer_radius, start, start - reach));
+  std::vector<Sample> samples;
+  constexpr int kAround = 16;
+  for (double radius : {0.0, tube.inner_radius, tube.outer_radius})
+    for (int k = 0; k < (radius == 0.0 ? 1 : kAround); ++k) {
+      Sample s{radius, 2.0 * std::numbers::pi * k / kAround, {}, {}};
+      if (!tree.empty())
+        if (const auto first = tree.first_hit(origin_of(s), -axis, 0.0, reach)) {
+          if (triangle_normal(shell, first->face).dot(-axis) < 0.0) { // entering the template
+            s.enter = start - first->t;
+            if (const auto second = tree.first_hit(origin_of(s), -axis, first->t + 1e-9, reach))
+              s.exit = start - second->t;
+          } else { // the ray starts inside the template's wall
+            s.enter = start;
+            s.exit = start - first->t;
+          }
+        }
+      samples.push_back(s);
+    }
+  std::optional<double> top, bottom, middle, bore, lowest_top, highest_bottom;
+  bool all_hit = true;
+  for (const Sample& s : samples) {
+    if (!s.enter || !s.exit) {
+      all_hit = false;
+      continue;
+    }
+    top = std::max(top.value_or(-1e300), *s.enter);
+    lowest_top = std::min(lowest_top.value_or(1e300), *s.enter);
+    bottom = std::min(bottom.value_or(1e300), *s.exit);
+    highest_bottom = std::max(highest_bottom.value_or(-1e300), *s.exit);
+    middle = std::min(middle.value_or(1e300), 0.5 * (*s.enter + *s.exit));
+    if (s.radius <= tube.inner_radius) bore = std::min(bore.value_or(1e300), *s.exit);
+  }
+  if (!top) {
+    const AabbTree all(shell);
+    const auto closest = all.closest_point(tube.entry);
+    throw GeometryError("tube '" + tube.name + "' misses the template: no part of the sleeve (outer radius " +
+                        detail::mm(tube.outer_radius) + ") lies over it; the template passes " +
+                        (closest ? detail::mm(closest->distance) : std::string("far")) + " from the entry " +
+                        detail::where(tube.entry));
+  }
+  // The column reaches down into the middle of the template wall (at the lowest sample, so it stands
+  // in the template all around); its foot then follows the bone (footed_cylinder_mesh). Not lower,
+  // even where the sleeve is planned lower: below that the template body is the material, and
+  // beyond the inner surface lie clearance and bone.
+  const double column = *middle;
+  std::vector<double> walls;
+  for (const Sample& s : samples)
+    if (s.enter && s.exit) walls.push_back(*s.enter - *s.exit);
+  std::nth_element(walls.begin(), walls.begin() + walls.size() / 2, walls.end());
+  p.foot_lift = std::min(0.1, 0.25 * walls[walls.size() / 2]);
+  p.template_top = *top;
+  p.template_bottom = *bottom;
+  p.column_bottom = column;
+  // No column when the sleeve's top is below the template's middle all around (or the sleeve lies
+  // wholly between the template's surfaces): the template body is the sleeve's material there.
+  p.sleeve_inside_template = column >= p.sleeve_top - 1e-6 ||
+                             (all_hit && p.sleeve_top < *lowest_top && p.sleeve_bottom > *highest_bottom);
+  p.bore_top = std::max(p.sleeve_top, p.template_top) + options.bore_margin;
+  p.bore_bottom = bore.value_or(p.template_bottom) - options.bore_margin;
+  return p;
+}
+
+// The foot follows the bone at its grid points; between them a bone ridge can still reach it. Foot
+// points of faces that meet the bone (exact test) are raised in small steps until none does. A face
+// with no foot point that meets the bone means the sleeve itself runs into the bone away from its
+// seat (a planning conflict): an error naming the tube and the place.
+void seat_column(TriangleMesh& column, const TubeSpec& tube, double chordal_tolerance, const AabbTree& bone) {
+  if (bone.empty()) return;
+  const Index ring = static_cast<Index>(circle_segments(tube.outer_radius, chordal_tolerance));
+  const Index foot_vertices = column.vertex_count() - ring - 1; // then the top ring and its centre
+  const Vec3 axis = tube_axis(tube);
+  const double step = 0.05, top_height = axis.dot(column.positions.back());
+  auto conflict = [&](const Vec3& where, const std::string& how) {
+    return GeometryError("tube '" + tube.name + "': its sleeve " + how + " near " + detail::where(where) +
+                         "; shorten it, raise its offset or change its direction");
+  };
+  for (int round = 0; round < 12; ++round) {
+    std::vector<std::uint8_t> raise(column.vertex_count(), 0);
+    bool meets = false;
+    std::optional<Vec3> above_foot;
+    const AabbTree tree(column);
+    tree.for_each_overlapping_pair(bone, [&](Index fc, Index fb) {
+      const Triangle& c = column.triangles[fc];
+      const Triangle& b = bone.mesh().triangles[fb];
+      const auto& q = bone.mesh().positions;
+      if (!triangles_intersect(column.positions[c[0]], column.positions[c[1]], column.positions[c[2]], q[b[0]], q[b[1]],
+                               q[b[2]]))
+        return;
+      meets = true;
+      bool has_foot = false;
+      for (Index v : c)
+        if (v < foot_vertices) raise[v] = has_foot = true;
+      if (!has_foot) above_foot = column.positions[c[0]];
+    });
+    if (!meets) return;
+    if (above_foot) throw conflict(*above_foot, "runs into the bone");
+    for (Index v = 0; v < foot_vertices; ++v) {
+      if (!raise[v]) continue;
+      Vec3& p = column.positions[v];
+      p = (p + step * axis).cast<float>().cast<double>();
+      if (axis.dot(p) > top_height - 0.01 * tube.length) throw conflict(p, "stands on bone as high as its top");
+    }
+  }
+  throw conflict(tube.entry, "cannot be seated clear of the bone under it");
+}
+
+} // namespace
+
+GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
+                      const std::vector<TubeSpec>& tubes, const GuideOptions& options) {
+  const auto t0 = Clock::now();
+  if (!(options.chordal_tolerance > 0.0) || !(options.chordal_tolerance < 1.0))
+    throw InvalidInput("chordal tolerance: must be in (0, 1) mm, got " + detail::number(options.chordal_tolerance));
+  if (inner_faces > shell.face_count()) throw InvalidInput("inner faces: more than the shell has");
+  GuideResult result;
+  result.mesh = shell;
+  result.from_tube.assign(shell.face_count(), 0);
+  if (tubes.empty()) return result;
+  for (const TubeSpec& t : tubes) check_tube(t);
+
+  auto note = [&](const BooleanResult& r) {
+    result.perturbed_operations += r.attempts > 1;
+    result.max_perturbation = std::max(result.max_perturbation, r.perturbation);
+    result.curve_tolerance = std::max(result.curve_tolerance, r.curve_tolerance);
+  };
+  BooleanOptions quick; // the operands are made here, closed by construction
+  quick.check_operands = false;
+  auto unite = [&](TriangleMesh& all, const TriangleMesh& one) {
+    if (all.empty()) {
+      all = one;
+      return;
+    }
+    const BooleanResult r = mesh_boolean(all, one, BooleanOp::Union, quick);
+    note(r);
+    all = r.mesh;
+  };
+  for (const TubeSpec& tube : tubes) result.tubes.push_back(place(tube, shell, options));
+  // The bone under all sleeves, for their feet: one pass over it.
+  std::vector<Index> bone_near;
+  {
+    BoundingBox all;
+    std::vector<BoundingBox> boxes;
+    for (std::size_t i = 0; i < tubes.size(); ++i) {
+      BoundingBox b;
+      b.extend(tube_point(tubes[i], result.tubes[i].column_bottom - 1.0));
+      b.extend(tube_point(tubes[i], result.tubes[i].sleeve_top + options.bore_margin));
+      boxes.push_back(b.inflated(tubes[i].outer_radius));
+      all.extend(boxes.back());
+    }
+    for (Index f = 0; f < bone.face_count(); ++f) {
+      const BoundingBox fb = triangle_box(bone, f);
+      if (!fb.overlaps(all)) continue;
+      for (const BoundingBox& b : boxes)
+        if (fb.overlaps(b)) {
+          bone_near.push_back(f);
+          break;
+        }
+    }
+  }
+  const AabbTree bone_tree(bone, std::move(bone_near));
+  result.placement_seconds = seconds_since(t0);
+
+  // Columns (each sleeve's outer cylinder from inside the template wall to the sleeve's top), united
+  // with each other (neighbouring sleeves may overlap) and then with the shell, on its seat.
+  TriangleMesh columns;
+  for (std::size_t i = 0; i < tubes.size(); ++i) {
+    const TubePlacement& p = result.tubes[i];
+    if (p.sleeve_inside_template) continue;
+    // The foot: at least foot_lift above the bone (plus clearance) everywhere under the sleeve.
+    const Vec3 axis = tube_axis(tubes[i]);
+    const double start = p.sleeve_top + options.bore_margin;
+    auto foot = [&](const Vec3& base_point) {
+      const Vec3 origin = base_point + (start - p.column_bottom) * axis;
+      const auto hit = bone_tree.first_hit(origin, -axis, 0.0, start - p.column_bottom + 1.0);
+      if (!hit) return 0.0;
+      return std::max(0.0, (start - hit->t) + options.clearance + p.foot_lift - p.column_bottom);
+    };
+    TriangleMesh column = rounded(footed_cylinder_mesh(
+        tube_cylinder(tubes[i], tubes[i].outer_radius, p.column_bottom, p.sleeve_top), options.chordal_tolerance, foot));
+    seat_column(column, tubes[i], options.chordal_tolerance, bone_tree);
+    unite(columns, column);
+  }
+  result.columns_seconds = seconds_since(t0) - result.placement_seconds;
+  if (!columns.empty()) {
+    BooleanOptions o = quick;
+    o.seat.assign(shell.face_count(), 0);
+    std::fill(o.seat.begin(), o.seat.begin() + static_cast<std::ptrdiff_t>(inner_faces), 1);
+    BooleanResult merged = mesh_boolean(result.mesh, columns, BooleanOp::Union, o);
+    note(merged);
+    result.mesh = std::move(merged.mesh);
+    result.from_tube = std::move(merged.from_b);
+  }
+  result.union_seconds = seconds_since(t0);
+  result.columns = std::move(columns);
+
+  // Bores along every whole axis, from above the sleeve to below the inner surface.
+  const auto t1 = Clock::now();
+  TriangleMesh bores;
+  for (std::size_t i = 0; i < tubes.size(); ++i) {
+    const TubePlacement& p = result.tubes[i];
+    unite(bores, rounded(cylinder_mesh(tube_cylinder(tubes[i], tubes[i].inner_radius, p.bore_bottom, p.bore_top),
+                                       options.chordal_tolerance, true)));
+  }
+  BooleanResult cut = mesh_boolean(result.mesh, bores, BooleanOp::Difference, quick);
+  note(cut);
+  std::vector<std::uint8_t> from_tube(cut.mesh.face_count());
+  for (Index f = 0; f < cut.mesh.face_count(); ++f)
+    from_tube[f] = cut.from_b[f] ? 1 : result.from_tube[cut.source_face[f]];
+  result.mesh = std::move(cut.mesh);
+  result.from_tube = std::move(from_tube);
+  result.bores = std::move(bores);
+  result.bore_seconds = seconds_since(t1);
+  result.seconds = seconds_since(t0);
+  return result;
+}
+
+} // namespace st

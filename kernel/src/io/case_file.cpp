@@ -1,0 +1,146 @@
+#include "st/io/case_file.h"
+#include "detail/format.h"
+
+#include "detail/json_reader.h"
+#include "st/core/errors.h"
+#include "st/io/plan.h"
+
+#include <cmath>
+#include <filesystem>
+
+namespace st {
+
+namespace {
+
+namespace fs = std::filesystem;
+using detail::json;
+
+/// A markups file named by the case, in the bone's frame (the bone's header is read once, when the
+/// first markups file needs it).
+Plan case_markups(const std::string& file, const CaseFile& c, std::optional<Space>& space) {
+  if (!space) space = mesh_file_space(c.bone);
+  return read_markups(file, *space);
+}
+
+} // namespace
+
+TemplateOptions template_options(const CaseFile& c) {
+  TemplateOptions o;
+  o.boundary_points = c.boundary_points;
+  o.inside = c.inside;
+  o.thickness = c.thickness;
+  o.clearance = c.clearance;
+  o.resolution = c.resolution.value_or(0.0);
+  o.sampling_step = c.sampling_step.value_or(0);
+  o.tubes = c.tubes;
+  return o;
+}
+
+CaseFile parse_case(const std::string& text, const std::string& path) {
+  const detail::JsonReader r(path);
+  const json doc = r.parse(text);
+  if (!doc.is_object()) r.fail("(top level)", "must be a JSON object");
+  CaseFile c;
+  c.path = path;
+  const fs::path folder = fs::absolute(fs::path(path)).parent_path();
+  auto resolve = [&](const std::string& p) { return (folder / p).lexically_normal().string(); };
+
+  const std::string format = r.string(r.required(doc, "format", "format"), "format");
+  if (format != kCaseFormat)
+    r.fail("format", "must be \"" + std::string(kCaseFormat) + "\", got \"" + format + "\"");
+  r.unknown_keys(doc, {"format", "name", "bone", "boundary", "template", "tubes", "output"}, "", c.warnings);
+
+  c.name = doc.contains("name") ? r.string(doc["name"], "name") : fs::path(path).stem().string();
+  c.bone = resolve(r.string(r.required(doc, "bone", "bone"), "bone"));
+
+  const json& boundary = r.required(doc, "boundary", "boundary");
+  if (!boundary.is_object()) r.fail("boundary", "must be an object");
+  r.unknown_keys(boundary, {"points", "inside", "markups"}, "boundary.", c.warnings);
+  std::optional<Space> space; // the bone's frame, read only when markups need it
+  if (boundary.contains("points") && boundary.contains("markups"))
+    r.fail("boundary", "give either points or markups, not both");
+  if (boundary.contains("markups")) {
+    const std::string file = resolve(r.string(boundary["markups"], "boundary.markups"));
+    const Plan plan = case_markups(file, c, space);
+    if (plan.boundary_points.empty())
+      r.fail("boundary.markups", file + " holds no ClosedCurve (or point list) for the boundary");
+    c.boundary_points = plan.boundary_points;
+  } else {
+    const json& points = r.required(boundary, "points", "boundary.points");
+    if (!points.is_array()) r.fail("boundary.points", "must be an array of [x, y, z] points");
+    if (points.size() < 3)
+      r.fail("boundary.points", "needs at least 3 points, got " + std::to_string(points.size()));
+    for (std::size_t i = 0; i < points.size(); ++i)
+      c.boundary_points.push_back(r.point(points[i], "boundary.points[" + std::to_string(i) + "]"));
+  }
+  if (boundary.contains("inside")) c.inside = r.point(boundary["inside"], "boundary.inside");
+
+  const json& tpl = r.required(doc, "template", "template");
+  if (!tpl.is_object()) r.fail("template", "must be an object");
+  r.unknown_keys(tpl, {"thickness", "clearance", "resolution", "sampling_step"}, "template.", c.warnings);
+  c.thickness = r.number(r.required(tpl, "thickness", "template.thickness"), "template.thickness");
+  if (!(c.thickness > 0.0)) r.fail("template.thickness", "must be > 0, got " + detail::number(c.thickness));
+  if (tpl.contains("clearance")) {
+    c.clearance = r.number(tpl["clearance"], "template.clearance");
+    if (c.clearance < 0.0) r.fail("template.clearance", "must be >= 0, got " + detail::number(c.clearance));
+  }
+  if (tpl.contains("resolution")) {
+    c.resolution = r.number(tpl["resolution"], "template.resolution");
+    if (!(*c.resolution > 0.0)) r.fail("template.resolution", "must be > 0, got " + detail::number(*c.resolution));
+  }
+  if (tpl.contains("sampling_step")) {
+    const json& s = tpl["sampling_step"];
+    if (!s.is_number_integer() && !(s.is_number() && std::floor(s.get<double>()) == s.get<double>()))
+      r.fail("template.sampling_step", "must be an integer");
+    const double v = s.get<double>();
+    if (v < 1 || v > 1e6) r.fail("template.sampling_step", "must be between 1 and 1000000");
+    c.sampling_step = static_cast<int>(v);
+  }
+
+  if (doc.contains("tubes")) {
+    const json& tubes = doc["tubes"];
+    if (!tubes.is_array()) r.fail("tubes", "must be an array");
+    for (std::size_t i = 0; i < tubes.size(); ++i) {
+      const std::string key = "tubes[" + std::to_string(i) + "]";
+      const json& t = tubes[i];
+      if (!t.is_object()) r.fail(key, "must be an object");
+      r.unknown_keys(t, {"name", "entry", "direction", "inner_radius", "outer_radius", "length", "offset", "depth",
+                         "markups"},
+                     key + ".", c.warnings);
+      TubeSpec tube;
+      tube.name = t.contains("name") ? r.string(t["name"], key + ".name") : std::to_string(i + 1);
+      if (t.contains("markups")) {
+        if (t.contains("entry") || t.contains("direction"))
+          r.fail(key, "give either markups or entry and direction, not both");
+        const std::string file = resolve(r.string(t["markups"], key + ".markups"));
+        const Plan plan = case_markups(file, c, space);
+        if (plan.axes.size() != 1)
+          r.fail(key + ".markups", file + " must hold exactly one Line, found " + std::to_string(plan.axes.size()));
+        tube.entry = plan.axes[0].entry;
+        tube.direction = plan.axes[0].direction;
+        if (plan.axes[0].depth) tube.depth = *plan.axes[0].depth;
+        if (!t.contains("name")) tube.name = plan.axes[0].name;
+      } else {
+        tube.entry = r.point(r.required(t, "entry", key + ".entry"), key + ".entry");
+        tube.direction = r.point(r.required(t, "direction", key + ".direction"), key + ".direction");
+        const double len = tube.direction.stableNorm(); // no overflow for huge components
+        if (!(len > 1e-12)) r.fail(key + ".direction", "must be non-zero");
+        tube.direction /= len;
+        if (!tube.direction.allFinite()) r.fail(key + ".direction", "must be a finite, non-zero vector");
+      }
+      tube.inner_radius = r.number(r.required(t, "inner_radius", key + ".inner_radius"), key + ".inner_radius");
+      tube.outer_radius = r.number(r.required(t, "outer_radius", key + ".outer_radius"), key + ".outer_radius");
+      tube.length = r.number(r.required(t, "length", key + ".length"), key + ".length");
+      if (t.contains("offset")) tube.offset = r.number(t["offset"], key + ".offset");
+      if (t.contains("depth")) tube.depth = r.number(t["depth"], key + ".depth");
+      if (const auto problem = tube_size_problem(tube)) r.fail(key + "." + problem->key, problem->reason);
+      c.tubes.push_back(tube);
+    }
+  }
+  if (doc.contains("output")) c.output = resolve(r.string(doc["output"], "output"));
+  return c;
+}
+
+CaseFile read_case(const std::string& path) { return parse_case(detail::read_text_file(path, "case file"), path); }
+
+} // namespace st
