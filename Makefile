@@ -4,7 +4,7 @@ JOBS ?= 2
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE=/usr/bin/python3
 DEMO_CASE ?= examples/cases/maxilla-implants.json
 
-.PHONY: all deps build install test test-main test-sanitize test-fuzz test-setup demo examples bench bench-references clean
+.PHONY: all deps build install test format-check test-main test-sanitize test-fuzz test-setup demo examples bench bench-references clean
 
 all: build
 
@@ -29,7 +29,15 @@ install: build
 
 # Everything CI runs: the Release tests (GoogleTest, pytest), the kernel tests under ASan+UBSan, and
 # each file-reader and case-parser fuzzer for a bounded time.
-test: test-main test-sanitize test-fuzz test-setup
+test: format-check test-main test-sanitize test-fuzz test-setup
+
+# The C++ sources as clang-format (.clang-format) writes them; `make format` rewrites them so.
+FORMATTED = $(shell git ls-files 'kernel/*.h' 'kernel/*.cpp' 'tests/*.h' 'tests/*.cpp' 'bench/*.h' 'bench/*.cpp' | grep -v /compat/)
+format-check: deps
+	clang-format --dry-run --Werror $(FORMATTED)
+
+format: deps
+	clang-format -i $(FORMATTED)
 
 test-main: build
 	ctest --test-dir $(BUILD) -j$(JOBS) --output-on-failure

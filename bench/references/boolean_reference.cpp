@@ -100,8 +100,7 @@ double g_memory_limit_gb = 0.0;
 /// Runs `call` as the timed operation `step` ("union", "difference"): progress on stderr (so a
 /// driver can tell which step a crash or a timeout hit), the seconds it took, and running out of
 /// memory turned into a StepFailed that names the step.
-template <class Call>
-double timed(const char* step, Call&& call) {
+template <class Call> double timed(const char* step, Call&& call) {
   std::cerr << "  " << step << " ..." << std::endl;
   const auto t0 = Clock::now();
   try {
@@ -313,9 +312,9 @@ std::string joined(const std::vector<std::string>& messages, std::size_t at_most
 }
 
 /// vtkBooleanOperationPolyDataFilter or vtkLoopBooleanPolyDataFilter: `op` of a and b.
-template <class Filter>
-vtkSmartPointer<vtkPolyData> vtk_boolean(vtkPolyData* a, vtkPolyData* b, int op, const char* step, double& seconds,
-                                         std::vector<std::string>& notes) {
+template <class Filter> vtkSmartPointer<vtkPolyData> vtk_boolean(vtkPolyData* a, vtkPolyData* b, int op,
+                                                                 const char* step, double& seconds,
+                                                                 std::vector<std::string>& notes) {
   vtkNew<Filter> filter;
   MessageWindow& messages = *g_vtk_messages;
   messages.errors.clear();
@@ -398,7 +397,6 @@ Outcome run_kernel(const Operands& in, int repeat, double budget) {
 
 // ---- reporting ----------------------------------------------------------------------------------
 
-
 std::string library_version(const std::string& library) {
   if (library == "cgal") return "CGAL " CGAL_VERSION_STR;
   if (library == "kernel") return "st_kernel (this tree)";
@@ -474,8 +472,7 @@ int main(int argc, char** argv) {
   g_vtk_messages = vtk_messages;
 
   Outcome outcome;
-  if (library == "cgal")
-    outcome = run_cgal(in, repeat, budget);
+  if (library == "cgal") outcome = run_cgal(in, repeat, budget);
   else if (library == "vtk-boolean")
     outcome =
         run_vtk<vtkBooleanOperationPolyDataFilter>(in, repeat, budget, vtkBooleanOperationPolyDataFilter::VTK_UNION,
@@ -483,8 +480,7 @@ int main(int argc, char** argv) {
   else if (library == "vtk-loop")
     outcome = run_vtk<vtkLoopBooleanPolyDataFilter>(in, repeat, budget, vtkLoopBooleanPolyDataFilter::VTK_UNION,
                                                     vtkLoopBooleanPolyDataFilter::VTK_DIFFERENCE);
-  else
-    outcome = run_kernel(in, repeat, budget);
+  else outcome = run_kernel(in, repeat, budget);
 
   report["runs"] = outcome.runs.size();
   report["repeat"] = repeat;

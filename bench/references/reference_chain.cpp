@@ -113,8 +113,7 @@ void require_result(vtkPolyData* poly, const ErrorCollector& errors, const std::
 }
 
 /// The connected piece of `poly` nearest `keep` (or its largest piece), and its distance to `keep`.
-std::pair<vtkSmartPointer<vtkPolyData>, double> nearest_piece(vtkAlgorithmOutput* port,
-                                                              const std::optional<Vec3>& keep,
+std::pair<vtkSmartPointer<vtkPolyData>, double> nearest_piece(vtkAlgorithmOutput* port, const std::optional<Vec3>& keep,
                                                               ErrorCollector& errors) {
   vtkNew<vtkPolyDataConnectivityFilter> connectivity;
   errors.watch(connectivity);
@@ -170,8 +169,8 @@ vtkSmartPointer<vtkPolyData> cut_with_loop(vtkPolyData* surface, const std::vect
 
   auto [above, above_distance] = nearest_piece(clip->GetOutputPort(0), keep, *errors);
   auto [below, below_distance] = nearest_piece(clip->GetOutputPort(1), keep, *errors);
-  const bool take_below = keep ? below_distance < above_distance
-                               : below->GetNumberOfCells() < above->GetNumberOfCells();
+  const bool take_below =
+      keep ? below_distance < above_distance : below->GetNumberOfCells() < above->GetNumberOfCells();
   vtkSmartPointer<vtkPolyData> result = take_below ? below : above;
   require_result(result, *errors, step);
   return result;
@@ -182,7 +181,8 @@ vtkSmartPointer<vtkPolyData> cut_with_loop(vtkPolyData* surface, const std::vect
 /// The closed polyline resampled to about `spacing` between points (keeps at least 3 points).
 std::vector<Vec3> resample_closed(const std::vector<Vec3>& polyline, double spacing) {
   double length = 0.0;
-  for (std::size_t i = 0; i < polyline.size(); ++i) length += (polyline[(i + 1) % polyline.size()] - polyline[i]).norm();
+  for (std::size_t i = 0; i < polyline.size(); ++i)
+    length += (polyline[(i + 1) % polyline.size()] - polyline[i]).norm();
   const auto count = std::max<std::size_t>(3, static_cast<std::size_t>(std::lround(length / spacing)));
   const double step = length / static_cast<double>(count);
   std::vector<Vec3> result;
@@ -222,10 +222,10 @@ std::vector<Index> longest_border(const TriangleMesh& mesh, std::size_t* loop_co
 struct ChainInput {
   TriangleMesh bone;
   vtkSmartPointer<vtkPolyData> bone_vtk;
-  std::vector<Vec3> loop;       ///< the kernel's boundary curve, ~1 point per mm
+  std::vector<Vec3> loop; ///< the kernel's boundary curve, ~1 point per mm
   std::optional<Vec3> inside;
   double thickness = 0.0;
-  double resolution = 0.0;      ///< OpenVDB voxel size
+  double resolution = 0.0; ///< OpenVDB voxel size
   std::optional<int> sampling_step;
 };
 
@@ -317,7 +317,8 @@ void run_chain(const ChainInput& in, ChainRun& run) {
   };
   const std::size_t m = rim.size();
   double rim_length = 0.0;
-  for (std::size_t i = 0; i < m; ++i) rim_length += (inner.positions[rim[(i + 1) % m]] - inner.positions[rim[i]]).norm();
+  for (std::size_t i = 0; i < m; ++i)
+    rim_length += (inner.positions[rim[(i + 1) % m]] - inner.positions[rim[i]]).norm();
   // The kernel's rule: a sample about T/2 apart unless the case gives the step in border points.
   int step = in.sampling_step.value_or(
       std::max(1, static_cast<int>(std::lround(0.5 * T / (rim_length / static_cast<double>(m))))));
@@ -327,7 +328,8 @@ void run_chain(const ChainInput& in, ChainRun& run) {
   for (std::size_t i = 0; i < m; i += static_cast<std::size_t>(step)) {
     if (i != 0 && m - i < static_cast<std::size_t>(step) / 2) break;
     Vec3 n = Vec3::Zero();
-    for (int k = -half; k <= half; ++k) n += normal_at(rim[(i + m + static_cast<std::size_t>(k + static_cast<int>(m))) % m]);
+    for (int k = -half; k <= half; ++k)
+      n += normal_at(rim[(i + m + static_cast<std::size_t>(k + static_cast<int>(m))) % m]);
     if (n.squaredNorm() == 0.0) continue;
     outer_loop.push_back(closest_on_offset(inner.positions[rim[i]] + T * n.normalized()));
   }
@@ -366,7 +368,8 @@ void run_chain(const ChainInput& in, ChainRun& run) {
   shell.positions = inner.positions;
   shell.positions.insert(shell.positions.end(), outer.positions.begin(), outer.positions.end());
   for (const st::Triangle& t : inner.triangles) shell.triangles.push_back({t[0], t[2], t[1]});
-  for (const st::Triangle& t : outer.triangles) shell.triangles.push_back({t[0] + n_inner, t[1] + n_inner, t[2] + n_inner});
+  for (const st::Triangle& t : outer.triangles)
+    shell.triangles.push_back({t[0] + n_inner, t[1] + n_inner, t[2] + n_inner});
   for (const st::Triangle& t : wall.triangles) {
     st::Triangle s{};
     for (int k = 0; k < 3; ++k) s[k] = t[k] < m ? rim[t[k]] : outer_rim[t[k] - m] + n_inner;
@@ -380,7 +383,6 @@ void run_chain(const ChainInput& in, ChainRun& run) {
 }
 
 // ---- reporting ----------------------------------------------------------------------------------
-
 
 int usage() {
   std::cerr << "usage: reference-chain CASE.json [--runs N] [--json OUT.json]\n";

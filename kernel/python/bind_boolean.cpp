@@ -42,8 +42,8 @@ void bind_boolean(py::module_& m) {
       "of B, of size 'perturbation' mm) and 'seconds'. Raises ValueError for an open or non-manifold operand.");
   m.def(
       "inspect_guide",
-      [](const Points& vg, const Faces& fg, const Points& vb, const Faces& fb, const py::object& tubes, double clearance,
-         double tolerance) {
+      [](const Points& vg, const Faces& fg, const Points& vb, const Faces& fb, const py::object& tubes,
+         double clearance, double tolerance) {
         const TriangleMesh guide = to_mesh(vg, fg, "guide");
         const TriangleMesh bone = to_mesh(vb, fb, "bone");
         const std::vector<TubeSpec> specs = to_tubes(tubes);
@@ -54,8 +54,8 @@ void bind_boolean(py::module_& m) {
         }
         py::dict d;
         d["solid"] = solid_dict(g.solid);
-        d["vertex_distance"] = py::array_t<double>(static_cast<py::ssize_t>(g.vertex_distance.size()),
-                                                   g.vertex_distance.data());
+        d["vertex_distance"] =
+            py::array_t<double>(static_cast<py::ssize_t>(g.vertex_distance.size()), g.vertex_distance.data());
         d["vertices_in_bone"] = g.vertices_in_bone;
         d["deepest_in_bone"] = g.deepest_in_bone;
         d["seated_vertices"] = g.seated_vertices;

@@ -15,7 +15,7 @@ namespace {
 /// A mesh and its AABB tree, built once for many ray queries (the drawing's hidden-line test).
 struct RayCaster {
   TriangleMesh mesh;
-  std::unique_ptr<AabbTree> tree;  // refers to mesh: built after it, never moved
+  std::unique_ptr<AabbTree> tree; // refers to mesh: built after it, never moved
 };
 
 } // namespace
@@ -91,8 +91,7 @@ void bind_mesh(py::module_& m) {
       },
       py::arg("points"), py::arg("vertices"), py::arg("triangles"),
       "Min/max/mean exact distance of points to a triangle surface, mm.");
-  py::class_<RayCaster>(m, "RayCaster",
-                        "A triangle mesh prepared for ray queries (AABB tree), e.g. hidden-line tests.")
+  py::class_<RayCaster>(m, "RayCaster", "A triangle mesh prepared for ray queries (AABB tree), e.g. hidden-line tests.")
       .def(py::init([](const Points& v, const Faces& f) {
              auto r = std::make_unique<RayCaster>();
              r->mesh = to_mesh(v, f, "mesh");

@@ -22,8 +22,8 @@ Vec3 to_vec3(const Points& a, const std::string& what) {
   return {d[0], d[1], d[2]};
 }
 
-TubeSpec to_tube(const Points& entry, const Points& direction, double inner_radius, double outer_radius,
-                 double length, double offset, const std::string& name) {
+TubeSpec to_tube(const Points& entry, const Points& direction, double inner_radius, double outer_radius, double length,
+                 double offset, const std::string& name) {
   TubeSpec t;
   t.name = name;
   t.entry = to_vec3(entry, "tube '" + name + "': entry");

@@ -104,7 +104,8 @@ void bind_plan(py::module_& m) {
       },
       py::arg("path"), py::arg("space") = "LPS",
       "Reads a plan: a case file, a 3D Slicer markups file (.mrk.json) or a CSV of axes, in the frame `space` of "
-      "the bone it goes on (\"LPS\" or \"RAS\", see mesh_file_space). Returns {path, kind (\"case\", \"markups\", \"csv\"), boundary_points (n, 3) or None, "
+      "the bone it goes on (\"LPS\" or \"RAS\", see mesh_file_space). Returns {path, kind (\"case\", \"markups\", "
+      "\"csv\"), boundary_points (n, 3) or None, "
       "inside, axes: [{name, source, entry, direction, depth, inner_radius, outer_radius, length, offset}] (sizes "
       "None where the plan gives none), warnings}; raises ValueError naming the file and the entry.");
   m.def(

@@ -182,9 +182,9 @@ void bind_template(py::module_& m) {
       },
       py::arg("vertices"), py::arg("triangles"), py::arg("boundary_points"), py::arg("thickness"),
       py::arg("clearance") = 0.0, py::arg("resolution") = 0.0, py::arg("sampling_step") = 0,
-      py::arg("inside") = py::none(), py::arg("max_snap_distance") = tol::kMaxSnapDistance_mm,
-      py::arg("check") = true, py::arg("simplify_outer") = false, py::arg("tubes") = py::none(),
-      py::arg("tube_tolerance") = 0.01, py::arg("fit") = true,
+      py::arg("inside") = py::none(), py::arg("max_snap_distance") = tol::kMaxSnapDistance_mm, py::arg("check") = true,
+      py::arg("simplify_outer") = false, py::arg("tubes") = py::none(), py::arg("tube_tolerance") = 0.01,
+      py::arg("fit") = true,
       "Designs the template (closed shell) on a bone mesh, with its drilling tubes (dicts with the case file's "
       "tube keys) merged and bored. Returns a dict with 'shell' (the guide), 'body' (before the tubes; its first "
       "'inner_faces' faces are the inner surface), 'inner', 'outer' (each (vertices, triangles)), 'from_tube' "

@@ -21,8 +21,7 @@ using Points = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using Faces = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
 
 inline std::vector<Vec3> to_points(const Points& a, const std::string& what) {
-  if (a.ndim() != 2 || a.shape(1) != 3)
-    throw InvalidInput(what + ": expected an (n, 3) array of coordinates");
+  if (a.ndim() != 2 || a.shape(1) != 3) throw InvalidInput(what + ": expected an (n, 3) array of coordinates");
   std::vector<Vec3> out(static_cast<std::size_t>(a.shape(0)));
   const double* d = a.data();
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = Vec3(d[3 * i], d[3 * i + 1], d[3 * i + 2]);
@@ -59,7 +58,8 @@ inline py::array_t<std::int32_t> from_triangles(const std::vector<Triangle>& t) 
   py::array_t<std::int32_t> a({static_cast<py::ssize_t>(t.size()), py::ssize_t{3}});
   std::int32_t* d = a.mutable_data();
   for (std::size_t i = 0; i < t.size(); ++i)
-    for (int k = 0; k < 3; ++k) d[3 * i + static_cast<std::size_t>(k)] = static_cast<std::int32_t>(t[i][static_cast<std::size_t>(k)]);
+    for (int k = 0; k < 3; ++k)
+      d[3 * i + static_cast<std::size_t>(k)] = static_cast<std::int32_t>(t[i][static_cast<std::size_t>(k)]);
   return a;
 }
 
@@ -78,7 +78,8 @@ inline py::dict stats_dict(const DistanceStats& s) {
 
 inline std::optional<Vec3> to_optional_point(const py::object& o, const std::string& what) {
   if (o.is_none()) return std::nullopt;
-  const auto pts = to_points(Points(py::array(py::module_::import("numpy").attr("asarray")(o, "float64").attr("reshape")(1, 3))), what);
+  const auto pts = to_points(
+      Points(py::array(py::module_::import("numpy").attr("asarray")(o, "float64").attr("reshape")(1, 3))), what);
   return pts[0];
 }
 

@@ -160,15 +160,18 @@ int plan(int argc, char** argv) {
   if (p.inside) out["boundary"]["inside"] = point_json(*p.inside);
   out["tubes"] = nlohmann::json::array();
   for (const st::PlanAxis& axis : p.axes) {
-    nlohmann::json t = {{"name", axis.name}, {"entry", point_json(axis.entry)}, {"direction", point_json(axis.direction)}};
+    nlohmann::json t = {
+        {"name", axis.name}, {"entry", point_json(axis.entry)}, {"direction", point_json(axis.direction)}};
     if (sizes || (axis.inner_radius && axis.outer_radius && axis.length)) {
       const st::TubeSpec s = st::tube_from_axis(axis, sizes); // the sizes filled and checked
-      t.update({{"inner_radius", s.inner_radius}, {"outer_radius", s.outer_radius}, {"length", s.length},
+      t.update({{"inner_radius", s.inner_radius},
+                {"outer_radius", s.outer_radius},
+                {"length", s.length},
                 {"offset", s.offset}});
     } else { // what the plan gives; a preset completes it
-      for (const auto& [key, value] : {std::pair{"inner_radius", axis.inner_radius},
-                                       std::pair{"outer_radius", axis.outer_radius}, std::pair{"length", axis.length},
-                                       std::pair{"offset", axis.offset}})
+      for (const auto& [key, value] :
+           {std::pair{"inner_radius", axis.inner_radius}, std::pair{"outer_radius", axis.outer_radius},
+            std::pair{"length", axis.length}, std::pair{"offset", axis.offset}})
         if (value) t[key] = *value;
     }
     if (axis.depth) t["depth"] = *axis.depth;
@@ -183,7 +186,8 @@ int plan(int argc, char** argv) {
 int presets(int argc, char** argv) {
   PlanOptions options;
   for (int i = 2; i < argc; ++i)
-    if (!options.parse(argc, argv, i)) throw st::InvalidInput(std::string("unexpected argument '") + argv[i] + "'\n" + kUsage);
+    if (!options.parse(argc, argv, i))
+      throw st::InvalidInput(std::string("unexpected argument '") + argv[i] + "'\n" + kUsage);
   std::printf("%-16s %8s %8s %8s %8s  %s\n", "name", "bore", "outer", "length", "offset", "description");
   for (const st::SleevePreset& p : options.catalogue())
     std::printf("%-16s %8.2f %8.2f %8.2f %8.2f  %s\n", p.name.c_str(), 2 * p.inner_radius, 2 * p.outer_radius, p.length,
@@ -246,12 +250,12 @@ int design(int argc, char** argv) {
   std::printf("%s: template of %zu triangles, volume %.1f mm^3 -> %s\n", c.name.c_str(), r.shell.triangles.size(),
               r.solid.volume, out_path.c_str());
   std::printf("  %s\n", r.solid.summary().c_str());
-  std::printf("  fit: inner surface %.3f mm from bone (max), outer surface %.3f..%.3f mm from inner, rim %.4f mm from curve (max)\n",
+  std::printf("  fit: inner surface %.3f mm from bone (max), outer surface %.3f..%.3f mm from inner, rim %.4f mm from "
+              "curve (max)\n",
               r.fit.inner_to_bone.max, r.fit.outer_to_inner.min, r.fit.outer_to_inner.max, r.fit.rim_to_curve.max);
   std::printf("  times (s): inner %.3f  offset %.3f  outer points %.3f  outer cut %.3f  connection %.3f  total %.3f\n",
               t.inner_segmentation, t.offset, t.outer_points, t.outer_segmentation, t.connection, t.total);
-  if (!r.tubes.empty())
-    std::printf("  %zu drilling tube(s) merged and bored in %.3f s\n", r.tubes.size(), t.boolean);
+  if (!r.tubes.empty()) std::printf("  %zu drilling tube(s) merged and bored in %.3f s\n", r.tubes.size(), t.boolean);
 
   if (!report_path.empty()) {
     nlohmann::json rep;

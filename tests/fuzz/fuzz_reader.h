@@ -20,8 +20,8 @@ inline void check_result(const TriangleMesh& mesh, const ReadReport& report) {
             report.input_triangles == mesh.triangles.size() + report.degenerate_dropped;
   for (const Vec3& p : mesh.positions) ok = ok && p.allFinite();
   for (const Triangle& t : mesh.triangles)
-    ok = ok && t[0] < mesh.vertex_count() && t[1] < mesh.vertex_count() && t[2] < mesh.vertex_count() &&
-         t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
+    ok = ok && t[0] < mesh.vertex_count() && t[1] < mesh.vertex_count() && t[2] < mesh.vertex_count() && t[0] != t[1] &&
+         t[1] != t[2] && t[0] != t[2];
   if (!ok) std::abort();
 }
 

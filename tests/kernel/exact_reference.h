@@ -36,7 +36,7 @@ inline int sgn(std::int64_t x) { return (x > 0) - (x < 0); }
 // affinely independent ones, each case an exact integer test.
 inline bool origin_in_hull(const std::vector<I3>& d) {
   const std::size_t n = d.size();
-  for (int k = 0; k < 3; ++k) {  // all on one side of a coordinate plane: the box excludes the origin
+  for (int k = 0; k < 3; ++k) { // all on one side of a coordinate plane: the box excludes the origin
     bool all_positive = true, all_negative = true;
     for (const I3& p : d) {
       all_positive = all_positive && p[k] > 0;
@@ -195,7 +195,7 @@ struct ExactMap {
 
   static ExactMap random(Randomizer& r) {
     ExactMap m;
-    if (r.uniform(0, 1)) {  // unit lower-triangular shear: invertible over the integers
+    if (r.uniform(0, 1)) { // unit lower-triangular shear: invertible over the integers
       m.shear[1][0] = r.uniform(-2, 2);
       m.shear[2][0] = r.uniform(-2, 2);
       m.shear[2][1] = r.uniform(-2, 2);
@@ -219,8 +219,7 @@ struct ExactMap {
   Vec3 operator()(const I3& p) const {
     const I3 q = shear_point(p);
     Vec3 v;
-    for (int k = 0; k < 3; ++k)
-      v[k] = std::ldexp(offset[k] + sign[k] * static_cast<double>(q[perm[k]]), exponent[k]);
+    for (int k = 0; k < 3; ++k) v[k] = std::ldexp(offset[k] + sign[k] * static_cast<double>(q[perm[k]]), exponent[k]);
     return v;
   }
 };
@@ -235,42 +234,42 @@ inline std::pair<ITri, ITri> random_pair(Randomizer& r, int mode) {
     std::vector<I3> pool;
     for (int i = 0; i < 3; ++i) {
       pool.push_back(t[i]);
-      pool.push_back({(t[i][0] + t[(i + 1) % 3][0]) / 2, (t[i][1] + t[(i + 1) % 3][1]) / 2,
-                      (t[i][2] + t[(i + 1) % 3][2]) / 2});
+      pool.push_back(
+          {(t[i][0] + t[(i + 1) % 3][0]) / 2, (t[i][1] + t[(i + 1) % 3][1]) / 2, (t[i][2] + t[(i + 1) % 3][2]) / 2});
     }
     for (int i = 0; i < 3; ++i) pool.push_back(r.point(0, scale));
     return pool;
   };
   switch (mode) {
-  case 0:  // anything in a small cube: many coplanar, collinear, shared points
+  case 0: // anything in a small cube: many coplanar, collinear, shared points
     for (auto& p : a) p = r.point(0, 3);
     for (auto& p : b) p = r.point(0, 3);
     break;
-  case 1:  // coplanar, on z = 0
+  case 1: // coplanar, on z = 0
     for (auto& p : a) p = {r.uniform(0, 5), r.uniform(0, 5), 0};
     for (auto& p : b) p = {r.uniform(0, 5), r.uniform(0, 5), 0};
     break;
-  case 2: {  // b built from a's vertices, edge midpoints and random points
+  case 2: { // b built from a's vertices, edge midpoints and random points
     for (auto& p : a) p = {2 * r.uniform(0, 3), 2 * r.uniform(0, 3), 2 * r.uniform(0, 3)};
     const auto pool = shared_pool(a, 6);
     for (auto& p : b) p = pool[r.uniform(0, int(pool.size()) - 1)];
     break;
   }
-  case 3: {  // the same in the plane z = 0
+  case 3: { // the same in the plane z = 0
     for (auto& p : a) p = {2 * r.uniform(0, 3), 2 * r.uniform(0, 3), 0};
     auto pool = shared_pool(a, 6);
     for (auto& p : pool) p[2] = 0;
     for (auto& p : b) p = pool[r.uniform(0, int(pool.size()) - 1)];
     break;
   }
-  case 4: {  // a degenerate triangle (segment or point) against anything
+  case 4: { // a degenerate triangle (segment or point) against anything
     const I3 o = r.point(0, 4), d = r.point(-1, 1);
     for (auto& p : a) {
       const int t = r.uniform(-2, 2);
       p = {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]};
     }
     for (auto& p : b) p = r.point(-1, 5);
-    if (r.uniform(0, 3) == 0) {  // both degenerate
+    if (r.uniform(0, 3) == 0) { // both degenerate
       const I3 o2 = r.point(0, 4), d2 = r.point(-1, 1);
       for (auto& p : b) {
         const int t = r.uniform(-2, 2);
@@ -279,7 +278,7 @@ inline std::pair<ITri, ITri> random_pair(Randomizer& r, int mode) {
     }
     break;
   }
-  default:  // general position-ish in a larger box
+  default: // general position-ish in a larger box
     for (auto& p : a) p = r.point(-8, 8);
     for (auto& p : b) p = r.point(-8, 8);
     break;

@@ -18,11 +18,11 @@ namespace st::test {
 inline TriangleMesh make_icosphere(double radius, int levels, const Vec3& centre = Vec3::Zero()) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   TriangleMesh m;
-  m.positions = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                 {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  m.triangles = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-                 {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  m.positions = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                 {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  m.triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                 {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   for (int l = 0; l < levels; ++l) {
     std::map<std::pair<Index, Index>, Index> mid;
     auto midpoint = [&](Index a, Index b) {
@@ -68,8 +68,7 @@ inline TriangleMesh make_grid_patch(int n, double u0, double u1, double v0, doub
 }
 
 /// Height field z = f(x, y) over [x0, x1] x [y0, y1], n x n quads split in two, normals up.
-template <class F>
-TriangleMesh make_height_field(double x0, double x1, double y0, double y1, int n, F f) {
+template <class F> TriangleMesh make_height_field(double x0, double x1, double y0, double y1, int n, F f) {
   TriangleMesh m;
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) {

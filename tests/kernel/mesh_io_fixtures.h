@@ -27,11 +27,9 @@
 #include <utility>
 #include <vector>
 
-
 namespace mesh_io_test {
 
 namespace fs = std::filesystem;
-
 
 // ---- fixtures built in code ---------------------------------------------------------------------
 
@@ -57,26 +55,22 @@ inline std::string read_bytes(const std::string& path) {
 /// Regular octahedron with vertices at +-r on the axes: 6 vertices, 8 outward triangles.
 inline st::TriangleMesh octahedron(double r = 1.0, st::Vec3 c = st::Vec3::Zero()) {
   st::TriangleMesh m;
-  m.positions = {c + st::Vec3(r, 0, 0), c + st::Vec3(-r, 0, 0), c + st::Vec3(0, r, 0),
-                 c + st::Vec3(0, -r, 0), c + st::Vec3(0, 0, r), c + st::Vec3(0, 0, -r)};
+  m.positions = {c + st::Vec3(r, 0, 0),  c + st::Vec3(-r, 0, 0), c + st::Vec3(0, r, 0),
+                 c + st::Vec3(0, -r, 0), c + st::Vec3(0, 0, r),  c + st::Vec3(0, 0, -r)};
   for (int sx = 0; sx < 2; ++sx)
     for (int sy = 0; sy < 2; ++sy)
       for (int sz = 0; sz < 2; ++sz) {
         const st::Index x = sx, y = 2 + sy, z = 4 + sz;
-        if ((sx + sy + sz) % 2 == 0)
-          m.triangles.push_back({x, y, z});
-        else
-          m.triangles.push_back({x, z, y});
+        if ((sx + sy + sz) % 2 == 0) m.triangles.push_back({x, y, z});
+        else m.triangles.push_back({x, z, y});
       }
   return m;
 }
 
 /// Unit cube corners, numbered x + 2y... as in the PLY/OBJ fixtures below.
-const double kCube[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
-                            {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+const double kCube[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
 /// Its six faces as outward counter-clockwise quads.
-const int kCubeQuads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                              {2, 3, 7, 6}, {0, 4, 7, 3}, {1, 2, 6, 5}};
+const int kCubeQuads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 4, 7, 3}, {1, 2, 6, 5}};
 
 /// Every edge is used by exactly two triangles, once in each direction (closed, oriented).
 inline bool closed_and_oriented(const st::TriangleMesh& m) {
@@ -104,8 +98,7 @@ inline double signed_volume_of(const st::TriangleMesh& m) {
 }
 
 /// Same triangles in the same order, with corners at the same coordinates (up to `tol`).
-inline void expect_same_corners(const st::TriangleMesh& expected, const st::TriangleMesh& actual,
-                         double tol = 0.0) {
+inline void expect_same_corners(const st::TriangleMesh& expected, const st::TriangleMesh& actual, double tol = 0.0) {
   ASSERT_EQ(expected.triangles.size(), actual.triangles.size());
   for (std::size_t f = 0; f < expected.triangles.size(); ++f)
     for (int k = 0; k < 3; ++k) {
@@ -123,8 +116,7 @@ inline void expect_invalid(const std::function<void()>& read, std::initializer_l
   } catch (const st::InvalidInput& e) {
     const std::string message = e.what();
     for (const std::string& part : parts)
-      EXPECT_NE(message.find(part), std::string::npos)
-          << "message '" << message << "' lacks '" << part << "'";
+      EXPECT_NE(message.find(part), std::string::npos) << "message '" << message << "' lacks '" << part << "'";
   }
 }
 
@@ -158,8 +150,7 @@ inline std::string stl_ascii(const st::TriangleMesh& m, const std::string& name 
   for (const st::Triangle& t : m.triangles) {
     out << "  facet normal 0 0 0\n    outer loop\n";
     for (st::Index v : t)
-      out << "      vertex " << m.positions[v].x() << " " << m.positions[v].y() << " "
-          << m.positions[v].z() << "\n";
+      out << "      vertex " << m.positions[v].x() << " " << m.positions[v].y() << " " << m.positions[v].z() << "\n";
     out << "    endloop\n  endfacet\n";
   }
   out << "endsolid " << name << "\n";
@@ -195,16 +186,16 @@ inline std::string cube_ply(const std::string& format) {
   header += "element face 6\nproperty uchar intensity\nproperty list uchar uint vertex_indices\n"
             "property float64 quality\n";
   header += "element edge 2\nproperty int vertex1\nproperty int vertex2\n";
-  header += "element nothing 4000000000\n";  // no properties: takes no bytes
+  header += "element nothing 4000000000\n"; // no properties: takes no bytes
   header += "end_header\n";
   if (format == "ascii") {
     std::string body = "7.5 2 11 22\n";
     for (int v = 0; v < 8; ++v)
-      body += std::to_string(kCube[v][0]) + " 200 " + std::to_string(kCube[v][1]) + " 2 0.5 " +
-              "1.5 " + std::to_string(static_cast<int>(kCube[v][2])) + " 0.25\n";
+      body += std::to_string(kCube[v][0]) + " 200 " + std::to_string(kCube[v][1]) + " 2 0.5 " + "1.5 " +
+              std::to_string(static_cast<int>(kCube[v][2])) + " 0.25\n";
     for (const auto& q : kCubeQuads)
-      body += "9 4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " +
-              std::to_string(q[2]) + " " + std::to_string(q[3]) + " 0.5\n";
+      body += "9 4 " + std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(q[2]) + " " +
+              std::to_string(q[3]) + " 0.5\n";
     body += "0 1\n1 2\n";
     return header + body;
   }
@@ -226,7 +217,7 @@ inline std::string cube_ply(const std::string& format) {
 
 inline void expect_cube(const st::TriangleMesh& m, const st::ReadReport& r) {
   ASSERT_EQ(m.vertex_count(), 8u);
-  EXPECT_EQ(m.face_count(), 12u);  // 6 quads, fan-triangulated
+  EXPECT_EQ(m.face_count(), 12u); // 6 quads, fan-triangulated
   EXPECT_EQ(r.input_triangles, 12u);
   EXPECT_EQ(r.degenerate_dropped, 0u);
   for (int v = 0; v < 8; ++v)
@@ -235,8 +226,7 @@ inline void expect_cube(const st::TriangleMesh& m, const st::ReadReport& r) {
   EXPECT_NEAR(signed_volume_of(m), 1.0, 1e-12);
 }
 
-inline st::TriangleMesh read_memory(const std::string& bytes, st::MeshFormat format,
-                             st::ReadReport* report = nullptr) {
+inline st::TriangleMesh read_memory(const std::string& bytes, st::MeshFormat format, st::ReadReport* report = nullptr) {
   return st::read_mesh_from_memory(bytes.data(), bytes.size(), format, "memory", report);
 }
 

@@ -93,7 +93,8 @@ TEST(Cut, LoopAroundAHandleDoesNotSeparate) {
   const double u = 0.13;
   for (int k = 0; k < 8; ++k) {
     const double v = 2 * std::numbers::pi * k / 8 + 0.05;
-    pts.emplace_back((big + small * std::cos(v)) * std::cos(u), (big + small * std::cos(v)) * std::sin(u), small * std::sin(v));
+    pts.emplace_back((big + small * std::cos(v)) * std::cos(u), (big + small * std::cos(v)) * std::sin(u),
+                     small * std::sin(v));
   }
   const SurfaceCurve curve = trace_surface_curve(topology, pts);
   try {

@@ -51,8 +51,8 @@ TriangleMesh sphere_cap(double radius, double max_angle, int rings) {
     for (int k = 0; k < count; ++k) {
       const double phi = 2.0 * std::numbers::pi * k / count;
       ring.push_back(static_cast<Index>(m.positions.size()));
-      m.positions.push_back(radius * Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                                          std::cos(theta)));
+      m.positions.push_back(radius *
+                            Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)));
     }
     // Stitch the previous ring (6(r-1) vertices) to this one (6r) by merging in angle order.
     const int np = static_cast<int>(prev.size()), nc = count;
@@ -141,9 +141,7 @@ TriangleMesh marching_tetrahedra(const std::function<double(const Vec3&)>& f, co
 
 // ---- helpers ---------------------------------------------------------------------------------------
 
-std::uint64_t edge_key(Index a, Index b) {
-  return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-}
+std::uint64_t edge_key(Index a, Index b) { return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b); }
 
 struct EdgeReport {
   std::size_t border = 0, nonmanifold = 0, misoriented = 0, nonmanifold_vertices = 0;
@@ -334,7 +332,8 @@ TEST(Decimate, HemisphereCapStaysWithinMaxErrorBothWays) {
   // Output vertices near the sphere (plus the input's own chord error, tiny here).
   double input_sag = 0.0;
   for (const st::Triangle& t : input.triangles)
-    input_sag = std::max(input_sag, radius - ((input.positions[t[0]] + input.positions[t[1]] + input.positions[t[2]]) / 3).norm());
+    input_sag = std::max(input_sag,
+                         radius - ((input.positions[t[0]] + input.positions[t[1]] + input.positions[t[2]]) / 3).norm());
   double worst_out = 0.0;
   for (const Vec3& p : r.mesh.positions) worst_out = std::max(worst_out, std::abs(p.norm() - radius));
   EXPECT_LE(worst_out, options.max_error + input_sag) << "input sag " << input_sag;
@@ -389,9 +388,8 @@ TEST(Decimate, TargetEdgeLengthBoundsTheMeanEdgeLength) {
 TEST(Decimate, NoisyHeightFieldHasNoFlippedTriangles) {
   std::mt19937 rng(11);
   std::normal_distribution<double> noise(0.0, 0.03);
-  TriangleMesh input = grid_patch(120, 0.4, [](double u, double v) {
-    return Vec3(u, v, 1.5 * std::sin(u / 6.0) * std::cos(v / 9.0));
-  });
+  TriangleMesh input =
+      grid_patch(120, 0.4, [](double u, double v) { return Vec3(u, v, 1.5 * std::sin(u / 6.0) * std::cos(v / 9.0)); });
   for (Vec3& p : input.positions) p.z() += noise(rng);
   for (const double max_error : {0.05, 0.3}) {
     st::DecimateOptions options;
@@ -407,8 +405,8 @@ TEST(Decimate, NoisyHeightFieldHasNoFlippedTriangles) {
 
 TEST(Decimate, MarchingTetrahedraSliversSimplifyWithoutBreakingManifoldness) {
   const Vec3 centre(0.013, 0.027, -0.031);
-  const TriangleMesh input = marching_tetrahedra([&](const Vec3& p) { return (p - centre).norm() - 10.0; },
-                                                 Vec3::Constant(-12.0), 0.5, 48);
+  const TriangleMesh input =
+      marching_tetrahedra([&](const Vec3& p) { return (p - centre).norm() - 10.0; }, Vec3::Constant(-12.0), 0.5, 48);
   const EdgeReport e_in = edge_report(input);
   ASSERT_TRUE(e_in.manifold());
   ASSERT_EQ(e_in.border, 0u);
@@ -435,7 +433,8 @@ TEST(Decimate, MarchingTetrahedraSliversSimplifyWithoutBreakingManifoldness) {
     const st::Triangle& t = r.mesh.triangles[f];
     const Vec3 &a = r.mesh.positions[t[0]], &b = r.mesh.positions[t[1]], &c = r.mesh.positions[t[2]];
     slivers_out += 2 * std::sqrt(3.0) * (b - a).cross(c - a).norm() /
-                       ((b - a).squaredNorm() + (c - b).squaredNorm() + (a - c).squaredNorm()) < 0.1;
+                       ((b - a).squaredNorm() + (c - b).squaredNorm() + (a - c).squaredNorm()) <
+                   0.1;
   }
   EXPECT_LT(slivers_out, slivers / 10) << slivers << " slivers in, " << slivers_out << " out";
   EXPECT_NEAR(st::signed_volume(r.mesh), st::signed_volume(input), 0.01 * st::signed_volume(input));

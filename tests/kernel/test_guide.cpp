@@ -69,13 +69,12 @@ struct GuideCheck {
       double nearest = 1e300;
       guide_tree.for_each_in_box(box.inflated(tube.inner_radius), [&](Index f) {
         const Triangle& t = r.shell.triangles[f];
-        nearest = std::min(nearest, segment_triangle_distance(a0, a1, r.shell.positions[t[0]],
-                                                              r.shell.positions[t[1]], r.shell.positions[t[2]]));
+        nearest = std::min(nearest, segment_triangle_distance(a0, a1, r.shell.positions[t[0]], r.shell.positions[t[1]],
+                                                              r.shell.positions[t[2]]));
       });
       // Exact but for what the Boolean operations report: the displacement of a degenerate contact and
       // the curve edges collapsed before rounding to float (256 ulp: 6 um at 200 mm).
-      EXPECT_GE(nearest, tube.inner_radius - 1e-5 - r.max_perturbation - r.curve_tolerance)
-          << "the bore is not open";
+      EXPECT_GE(nearest, tube.inner_radius - 1e-5 - r.max_perturbation - r.curve_tolerance) << "the bore is not open";
       EXPECT_LT(r.max_perturbation + r.curve_tolerance, 0.02);
       // Sleeve material between the radii over [offset, offset + length], except where the bone is.
       Vec3 u, v;
@@ -85,8 +84,8 @@ struct GuideCheck {
         for (int h = 0; h <= 4; ++h) {
           const double angle = 2.0 * std::numbers::pi * (k + 0.5) / 8.0;
           const double z = p.sleeve_bottom + (p.sleeve_top - p.sleeve_bottom) * (0.02 + 0.96 * h / 4.0);
-          const Vec3 q = tube_point(tube, z) + 0.5 * (tube.inner_radius + tube.outer_radius) *
-                                                   (std::cos(angle) * u + std::sin(angle) * v);
+          const Vec3 q = tube_point(tube, z) +
+                         0.5 * (tube.inner_radius + tube.outer_radius) * (std::cos(angle) * u + std::sin(angle) * v);
           if (winding_number(r.shell, q) > 0.5) ++present;
           else if (depth_in_bone(bone_tree, q) > 0.0 || bone_tree.closest_point(q)->distance <= clearance + 0.05)
             ++in_bone;
@@ -114,7 +113,8 @@ struct GuideCheck {
     std::size_t far = 0, kept = 0;
     for (Index f = 0; f < r.body.face_count(); ++f) {
       const Vec3 c = (r.body.positions[r.body.triangles[f][0]] + r.body.positions[r.body.triangles[f][1]] +
-                      r.body.positions[r.body.triangles[f][2]]) / 3.0;
+                      r.body.positions[r.body.triangles[f][2]]) /
+                     3.0;
       bool near_tube = false;
       for (const TubeSpec& t : tubes) {
         const Vec3 d = c - t.entry, axis = tube_axis(t);
@@ -165,9 +165,8 @@ TEST(GuideDental, EightSleevesCloseTogetherMergeIntoOneGuide) {
 
 // A smooth bump: a template on its top, tubes in special positions.
 struct Bump : ::testing::Test {
-  TriangleMesh bone = test::make_height_field(-20, 20, -20, 20, 80, [](double x, double y) {
-    return 6.0 * std::exp(-(x * x + y * y) / 150.0);
-  });
+  TriangleMesh bone = test::make_height_field(
+      -20, 20, -20, 20, 80, [](double x, double y) { return 6.0 * std::exp(-(x * x + y * y) / 150.0); });
   TemplateOptions options() const {
     TemplateOptions o;
     o.boundary_points = {{-12, -12, 0}, {12, -12, 0}, {12, 12, 0}, {-12, 12, 0}};
@@ -194,8 +193,8 @@ TEST_F(Bump, TubesInSpecialPositions) {
   TemplateOptions o = options();
   const double top = 6.0;
   o.tubes = {
-      tube("through a vertex", Vec3(0, 0, top), -Vec3::UnitZ()),       // the axis through a grid vertex
-      tube("along edges", Vec3(5, 5, 6.0 * std::exp(-50.0 / 150.0)), Vec3(-1, -1, -2)), // over a diagonal
+      tube("through a vertex", Vec3(0, 0, top), -Vec3::UnitZ()), // the axis through a grid vertex
+      tube("along edges", Vec3(5, 5, 6.0 * std::exp(-50.0 / 150.0)), Vec3(-1, -1, -2)),    // over a diagonal
       tube("flush", Vec3(-6, 3, 6.0 * std::exp(-45.0 / 150.0)), -Vec3::UnitZ(), 0.0, 2.0), // bottom on the bone
       tube("steep", Vec3(6, -5, 6.0 * std::exp(-61.0 / 150.0)), Vec3(-0.2, 1.0, -0.45), 1.0, 9.0),
   };

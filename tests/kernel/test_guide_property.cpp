@@ -59,7 +59,7 @@ TEST(GuideProperty, RandomSleevesOnARealTemplate) {
   const CaseFile c = read_case(test::examples_dir() + "/cases/maxilla-implants.json");
   const TriangleMesh bone = read_mesh(c.bone);
   TemplateOptions o = template_options(c);
-  o.tubes.clear(); // the random sleeves replace the planned ones
+  o.tubes.clear();         // the random sleeves replace the planned ones
   o.simplify_outer = true; // a real template, smaller, so that each full check stays quick
   const TemplateResult body = design_template(bone, o);
   const TriangleMesh& shell = body.shell;
@@ -80,7 +80,9 @@ TEST(GuideProperty, RandomSleevesOnARealTemplate) {
     tube.name = "random-" + std::to_string(k);
     tube.entry = inner.positions[t[0]] + a * (inner.positions[t[1]] - inner.positions[t[0]]) +
                  b * (inner.positions[t[2]] - inner.positions[t[0]]);
-    const Vec3 normal = (inner.positions[t[1]] - inner.positions[t[0]]).cross(inner.positions[t[2]] - inner.positions[t[0]]).normalized();
+    const Vec3 normal = (inner.positions[t[1]] - inner.positions[t[0]])
+                            .cross(inner.positions[t[2]] - inner.positions[t[0]])
+                            .normalized();
     const Vec3 tilt = Vec3(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5);
     tube.direction = (-normal + 0.84 * unit(rng) * (tilt - tilt.dot(normal) * normal).normalized()).normalized();
     tube.inner_radius = 0.5 + 1.5 * unit(rng);
@@ -99,10 +101,11 @@ TEST(GuideProperty, RandomSleevesOnARealTemplate) {
       }
       if (only >= 0) {
         write_stl(g.mesh, test::output_dir() + "/replay-guide.stl");
-        std::printf("tube: entry %.4f %.4f %.4f dir %.4f %.4f %.4f r %.3f R %.3f L %.3f off %.3f; column %.3f foot %.3f\n",
-                    tube.entry.x(), tube.entry.y(), tube.entry.z(), tube.direction.x(), tube.direction.y(),
-                    tube.direction.z(), tube.inner_radius, tube.outer_radius, tube.length, tube.offset,
-                    g.tubes[0].column_bottom, g.tubes[0].foot_lift);
+        std::printf(
+            "tube: entry %.4f %.4f %.4f dir %.4f %.4f %.4f r %.3f R %.3f L %.3f off %.3f; column %.3f foot %.3f\n",
+            tube.entry.x(), tube.entry.y(), tube.entry.z(), tube.direction.x(), tube.direction.y(), tube.direction.z(),
+            tube.inner_radius, tube.outer_radius, tube.length, tube.offset, g.tubes[0].column_bottom,
+            g.tubes[0].foot_lift);
       }
       // Nothing of the sleeve inside the bone (beyond float rounding).
       double deepest = 0.0;
@@ -171,7 +174,8 @@ TEST(GuideProperty, RandomSleevesOnARealTemplate) {
   EXPECT_EQ(failures, 0);
   RecordProperty("deepest_in_bone_mm", std::to_string(deepest_overall));
   std::printf("%d placements: %d refused as colliding with bone, %d missing the template; deepest sleeve "
-              "vertex inside the bone %.2e mm\n", cases, conflicts, misses, deepest_overall);
+              "vertex inside the bone %.2e mm\n",
+              cases, conflicts, misses, deepest_overall);
   if (only < 0) EXPECT_LT(conflicts, cases / 5);
   if (only < 0) EXPECT_LT(misses, cases / 20) << "entries on the inner surface should almost always meet the template";
   if (only < 0) EXPECT_GE(unions, cases / 3);

@@ -41,15 +41,13 @@ TEST(MeshIoPly, FacesBeforeVerticesAndVertexIndexName) {
 TEST(MeshIoPly, IndexOutOfRangeNamesTheFace) {
   std::string text = cube_ply("ascii");
   text.replace(text.find("9 4 1 2 6 5"), 11, "9 4 1 2 6 8");
-  expect_invalid([&] { read_memory(text, st::MeshFormat::Ply); },
-                 {"face 5", "vertex 8", "only 8 vertices", "line"});
+  expect_invalid([&] { read_memory(text, st::MeshFormat::Ply); }, {"face 5", "vertex 8", "only 8 vertices", "line"});
   std::string binary = cube_ply("binary_little_endian");
   // The last index of the first face (0 3 2 1): make it 99.
   const std::size_t body = binary.find("end_header\n") + 11;
   const std::size_t first_face = body + 4 + 1 + 4 + 4 + 8 * (4 + 1 + 8 + 1 + 4 + 4 + 4 + 4);
   binary[first_face + 2 + 12] = 99;
-  expect_invalid([&] { read_memory(binary, st::MeshFormat::Ply); },
-                 {"face 0", "vertex 99", "byte offset"});
+  expect_invalid([&] { read_memory(binary, st::MeshFormat::Ply); }, {"face 0", "vertex 99", "byte offset"});
 }
 
 TEST(MeshIoPly, NonFiniteVertexNamed) {
@@ -63,8 +61,7 @@ TEST(MeshIoPly, HugeCountsAreRefusedBeforeReserving) {
   const std::string head = "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
                            "property float x\nproperty float y\nproperty float z\n"
                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
-  expect_invalid([&] { read_memory(head + std::string(24, '\0'), st::MeshFormat::Ply); },
-                 {"vertex", "4000000000"});
+  expect_invalid([&] { read_memory(head + std::string(24, '\0'), st::MeshFormat::Ply); }, {"vertex", "4000000000"});
   const std::string list = "ply\nformat binary_big_endian 1.0\nelement vertex 3\n"
                            "property uchar x\nproperty uchar y\nproperty uchar z\n"
                            "element face 1\nproperty list uint int vertex_indices\nend_header\n";
@@ -77,16 +74,16 @@ TEST(MeshIoPly, HugeCountsAreRefusedBeforeReserving) {
 TEST(MeshIoPly, ErrorsForMissingPartsAndDegenerateFaces) {
   expect_invalid([] { read_memory("ply\nformat ascii 1.0\nend_header\n", st::MeshFormat::Ply); },
                  {"contains no triangles"});
-  expect_invalid([] { read_memory("ply\nformat ascii 1.0\nelement vertex 1\n",
-                                  st::MeshFormat::Ply); },
-                 {"end_header"});
-  expect_invalid([] { read_memory("ply\nformat ascii 1.0\nproperty float x\nend_header\n",
-                                  st::MeshFormat::Ply); },
+  expect_invalid([] { read_memory("ply\nformat ascii 1.0\nelement vertex 1\n", st::MeshFormat::Ply); }, {"end_header"});
+  expect_invalid([] { read_memory("ply\nformat ascii 1.0\nproperty float x\nend_header\n", st::MeshFormat::Ply); },
                  {"line 3", "before any 'element'"});
-  expect_invalid([] { read_memory("ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\n"
-                                  "end_header\n",
-                                  st::MeshFormat::Ply); },
-                 {"line 4", "'quad'"});
+  expect_invalid(
+      [] {
+        read_memory("ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\n"
+                    "end_header\n",
+                    st::MeshFormat::Ply);
+      },
+      {"line 4", "'quad'"});
   const std::string degenerate = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
                                  "property float y\nproperty float z\nelement face 2\n"
                                  "property list uchar int vertex_indices\nend_header\n"
@@ -113,7 +110,7 @@ TEST(MeshIoObj, NegativeIndicesSlashesAndQuads) {
     for (int i : kCubeQuads[f]) {
       char corner[32];
       if (f == 4) {
-        std::snprintf(corner, sizeof corner, " %d/1", i - 8);  // relative to the 8 vertices
+        std::snprintf(corner, sizeof corner, " %d/1", i - 8); // relative to the 8 vertices
       } else {
         std::snprintf(corner, sizeof corner, styles[f], i + 1);
         std::string c = " " + std::string(corner);
@@ -136,21 +133,15 @@ TEST(MeshIoObj, BadNumbersAndIndicesNameTheLine) {
   const std::string vertices = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
   expect_invalid([&] { read_memory(vertices + "f 1 2 4\n", st::MeshFormat::Obj); },
                  {"line 4", "vertex 4", "3 vertices"});
-  expect_invalid([&] { read_memory(vertices + "f 1 2 -4\n", st::MeshFormat::Obj); },
-                 {"line 4", "-4"});
-  expect_invalid([&] { read_memory(vertices + "f 0 1 2\n", st::MeshFormat::Obj); },
-                 {"line 4", "bad vertex index"});
-  expect_invalid([&] { read_memory(vertices + "f 1 x/2 3\n", st::MeshFormat::Obj); },
-                 {"line 4", "'x/2'"});
-  expect_invalid([&] { read_memory(vertices + "f 1 2\n", st::MeshFormat::Obj); },
-                 {"line 4", "needs at least 3"});
-  expect_invalid([] { read_memory("v 0 0 0\nv 1 zero 0\n", st::MeshFormat::Obj); },
-                 {"line 2", "'zero'"});
+  expect_invalid([&] { read_memory(vertices + "f 1 2 -4\n", st::MeshFormat::Obj); }, {"line 4", "-4"});
+  expect_invalid([&] { read_memory(vertices + "f 0 1 2\n", st::MeshFormat::Obj); }, {"line 4", "bad vertex index"});
+  expect_invalid([&] { read_memory(vertices + "f 1 x/2 3\n", st::MeshFormat::Obj); }, {"line 4", "'x/2'"});
+  expect_invalid([&] { read_memory(vertices + "f 1 2\n", st::MeshFormat::Obj); }, {"line 4", "needs at least 3"});
+  expect_invalid([] { read_memory("v 0 0 0\nv 1 zero 0\n", st::MeshFormat::Obj); }, {"line 2", "'zero'"});
   expect_invalid([] { read_memory("v 0 0\n", st::MeshFormat::Obj); }, {"line 1"});
   expect_invalid([] { read_memory("v 0 0 0\nv 1 inf 0\n", st::MeshFormat::Obj); },
                  {"line 2", "vertex 2", "non-finite"});
-  expect_invalid([] { read_memory("# only a comment\nv 1 2 3\n", st::MeshFormat::Obj); },
-                 {"contains no triangles"});
+  expect_invalid([] { read_memory("# only a comment\nv 1 2 3\n", st::MeshFormat::Obj); }, {"contains no triangles"});
 }
 
 // ---- any format ---------------------------------------------------------------------------------
@@ -214,8 +205,7 @@ TEST(MeshIo, TextFormatsTolerateByteOrderMarkAndNulPadding) {
   const std::string bom = "\xEF\xBB\xBF";
   // An OBJ whose first statement is a vertex: skipping it would shift every index.
   st::ReadReport report;
-  const st::TriangleMesh obj =
-      read_memory(bom + "v 5 0 0\nv 0 5 0\nv 0 0 5\nf 1 2 3\n", st::MeshFormat::Auto, &report);
+  const st::TriangleMesh obj = read_memory(bom + "v 5 0 0\nv 0 5 0\nv 0 0 5\nf 1 2 3\n", st::MeshFormat::Auto, &report);
   EXPECT_EQ(report.format, st::MeshFormat::Obj);
   ASSERT_EQ(obj.vertex_count(), 3u);
   EXPECT_EQ(obj.positions[obj.triangles[0][0]], st::Vec3(5, 0, 0));
@@ -225,20 +215,18 @@ TEST(MeshIo, TextFormatsTolerateByteOrderMarkAndNulPadding) {
   EXPECT_EQ(report.format, st::MeshFormat::Stl);
   EXPECT_EQ(read_memory(ascii + std::string(7, '\0'), st::MeshFormat::Stl).face_count(), 8u);
 
-  const st::TriangleMesh ply =
-      read_memory(bom + cube_ply("binary_little_endian"), st::MeshFormat::Auto, &report);
+  const st::TriangleMesh ply = read_memory(bom + cube_ply("binary_little_endian"), st::MeshFormat::Auto, &report);
   EXPECT_EQ(report.format, st::MeshFormat::Ply);
   expect_cube(ply, report);
 }
 
 TEST(MeshIo, GzipFileIsReadAsTheFileItHolds) {
   // gzip of an ASCII STL with two triangles sharing an edge (made with Python's gzip, mtime 0).
-  static const char kGz[] =
-    "\x1f\x8b\x08\x00\x00\x00\x00\x00\x02\x03\x2b\xce\xcf\xc9\x4c\x51\x48\xaf\xe2\x4a\x4b\x4c"
-    "\x4e\x2d\x51\xc8\xcb\x2f\xca\x4d\xcc\x51\x30\x00\x42\x43\xae\xfc\xd2\x92\xd4\x22\x85\x9c"
-    "\xfc\xfc\x02\xae\xb2\xd4\xa2\x92\xd4\x0a\xb0\xb8\x01\x8c\x63\x88\xcc\x31\x00\x71\xb9\x52"
-    "\xf3\x52\xc0\xca\x81\x34\xd8\x3c\xe2\x4c\x35\x44\x35\xd5\x90\xa0\xa9\x40\x46\x31\xcc\xdd"
-    "\x00\xa3\x03\x71\x01\xc1\x00\x00\x00";
+  static const char kGz[] = "\x1f\x8b\x08\x00\x00\x00\x00\x00\x02\x03\x2b\xce\xcf\xc9\x4c\x51\x48\xaf\xe2\x4a\x4b\x4c"
+                            "\x4e\x2d\x51\xc8\xcb\x2f\xca\x4d\xcc\x51\x30\x00\x42\x43\xae\xfc\xd2\x92\xd4\x22\x85\x9c"
+                            "\xfc\xfc\x02\xae\xb2\xd4\xa2\x92\xd4\x0a\xb0\xb8\x01\x8c\x63\x88\xcc\x31\x00\x71\xb9\x52"
+                            "\xf3\x52\xc0\xca\x81\x34\xd8\x3c\xe2\x4c\x35\x44\x35\xd5\x90\xa0\xa9\x40\x46\x31\xcc\xdd"
+                            "\x00\xa3\x03\x71\x01\xc1\x00\x00\x00";
   const std::string gz(kGz, sizeof kGz - 1);
   const std::string path = temp_path("square.stl.gz");
   write_bytes(path, gz);
@@ -276,17 +264,16 @@ TEST(MeshIoWrite, RoundTripKeepsGeometryAndWritesUnitNormals) {
   EXPECT_EQ(back.vertex_count(), 6u);
   EXPECT_EQ(back.face_count(), 8u);
   EXPECT_TRUE(closed_and_oriented(back));
-  expect_same_corners(octa, back, 1e-5 * 260);  // float32 rounding
+  expect_same_corners(octa, back, 1e-5 * 260); // float32 rounding
   EXPECT_NEAR(signed_volume_of(back), signed_volume_of(octa), 1e-2);
 
   for (std::size_t f = 0; f < 8; ++f) {
     float n[3];
-    std::memcpy(n, bytes.data() + 84 + 50 * f, 12);  // little-endian host assumed by the test
+    std::memcpy(n, bytes.data() + 84 + 50 * f, 12); // little-endian host assumed by the test
     const st::Vec3 normal(n[0], n[1], n[2]);
     const st::Triangle& t = octa.triangles[f];
-    const st::Vec3 expected = (octa.positions[t[1]] - octa.positions[t[0]])
-                                  .cross(octa.positions[t[2]] - octa.positions[t[0]])
-                                  .normalized();
+    const st::Vec3 expected =
+        (octa.positions[t[1]] - octa.positions[t[0]]).cross(octa.positions[t[2]] - octa.positions[t[0]]).normalized();
     EXPECT_NEAR((normal - expected).norm(), 0.0, 1e-5) << "triangle " << f;
   }
 }
@@ -302,8 +289,7 @@ TEST(MeshIoWrite, ReplacesAnExistingFile) {
 TEST(MeshIoWrite, UnwritablePathThrowsAndLeavesNothing) {
   const std::string missing_dir = temp_path("no_such_dir/out.stl");
   fs::remove_all(output_dir() / "no_such_dir");
-  expect_invalid([&] { st::write_stl(octahedron(), missing_dir); },
-                 {missing_dir, "No such file"});
+  expect_invalid([&] { st::write_stl(octahedron(), missing_dir); }, {missing_dir, "No such file"});
   EXPECT_FALSE(fs::exists(missing_dir));
   EXPECT_FALSE(fs::exists(missing_dir + ".tmp"));
 
@@ -321,7 +307,7 @@ TEST(MeshIoWrite, RefusesNonFiniteAndBadIndices) {
   st::TriangleMesh bad = octahedron();
   bad.positions[4].y() = std::numeric_limits<double>::quiet_NaN();
   expect_invalid([&] { st::write_stl(bad, path); }, {path, "vertex 4", "non-finite"});
-  bad.positions[4].y() = 1e300;  // beyond float32
+  bad.positions[4].y() = 1e300; // beyond float32
   expect_invalid([&] { st::write_stl(bad, path); }, {"vertex 4"});
   bad = octahedron();
   bad.triangles[2][0] = 17;
@@ -340,7 +326,7 @@ TEST(MeshIoExamples, Tibia) {
   EXPECT_EQ(report.input_triangles, 60362u);
   EXPECT_EQ(m.face_count() + report.degenerate_dropped, 60362u);
   EXPECT_EQ(m.vertex_count(), 30183u);
-  EXPECT_TRUE(closed_and_oriented(m));  // watertight genus 0
+  EXPECT_TRUE(closed_and_oriented(m)); // watertight genus 0
   EXPECT_GT(signed_volume_of(m), 0.0);
 }
 

@@ -66,8 +66,8 @@ TubeSpec make_tube(const Vec3& direction, double inner = 2.0, double outer = 3.0
 
 /// Axis-aligned both ways, one nearly axis-aligned, and oblique drilling directions (not unit).
 std::vector<Vec3> directions() {
-  return {Vec3(0, 0, 1),  Vec3(0, 0, -1),       Vec3(1, 0, 0),       Vec3(0, -2, 0),
-          Vec3(1e-3, 0, 1), Vec3(1, 2, -3),     Vec3(-0.3, 0.5, 0.81), Vec3(0.7, -0.7, 0.1)};
+  return {Vec3(0, 0, 1),    Vec3(0, 0, -1), Vec3(1, 0, 0),         Vec3(0, -2, 0),
+          Vec3(1e-3, 0, 1), Vec3(1, 2, -3), Vec3(-0.3, 0.5, 0.81), Vec3(0.7, -0.7, 0.1)};
 }
 
 double exact_sleeve_volume(const TubeSpec& t) {
@@ -82,9 +82,8 @@ double exact_sleeve_volume(const TubeSpec& t) {
 std::pair<double, double> chordal_volume_range(const TubeSpec& t, double d) {
   const double R = t.outer_radius, r = t.inner_radius, L = t.length;
   const double exact = exact_sleeve_volume(t);
-  const double slack = 1e-9 * exact;  // rounding of the signed-volume sum
-  return {exact - kPi * L * (R * R - (R - d) * (R - d)) - slack,
-          exact + kPi * L * (r * r - (r - d) * (r - d)) + slack};
+  const double slack = 1e-9 * exact; // rounding of the signed-volume sum
+  return {exact - kPi * L * (R * R - (R - d) * (R - d)) - slack, exact + kPi * L * (r * r - (r - d) * (r - d)) + slack};
 }
 
 double gprop_volume(const TopoDS_Shape& shape) {
@@ -132,8 +131,8 @@ double max_side_deviation(const TubeSpec& t, const TriangleMesh& mesh) {
       const bool flat = std::abs(c[0].z - c[1].z) < kOnSurface && std::abs(c[1].z - c[2].z) < kOnSurface;
       if (!on_cylinder || flat) continue;
       for (std::size_t k = 0; k < 3; ++k)
-        worst = std::max(worst, radius - axis_distance_of_segment(t, mesh.positions[f[k]],
-                                                                  mesh.positions[f[(k + 1) % 3]]));
+        worst =
+            std::max(worst, radius - axis_distance_of_segment(t, mesh.positions[f[k]], mesh.positions[f[(k + 1) % 3]]));
     }
   }
   return worst;
@@ -184,7 +183,7 @@ TEST(OcctSleeve, SleeveIsOneValidSolidWithTheExactVolume) {
     ASSERT_FALSE(s.IsNull());
     EXPECT_EQ(s.ShapeType(), TopAbs_SOLID);
     EXPECT_TRUE(BRepCheck_Analyzer(s).IsValid());
-    EXPECT_EQ(face_count(s), 4);  // outer and inner wall, two annular caps
+    EXPECT_EQ(face_count(s), 4); // outer and inner wall, two annular caps
     EXPECT_NEAR(gprop_volume(s), exact_sleeve_volume(t), 1e-9 * exact_sleeve_volume(t));
   }
 }
@@ -333,9 +332,9 @@ TEST(OcctSleeve, BrepTextRoundTripsToTheSameSolid) {
     SCOPED_TRACE(testing::Message() << "direction " << dir.transpose());
     const TubeSpec t = make_tube(dir, 1.25, 2.0, 15.0, 3.0);
     const TopoDS_Shape s = st::make_sleeve_shape(t);
-    st::tessellate_shape(s, 0.01);  // no triangulation sneaks into the text either way
+    st::tessellate_shape(s, 0.01); // no triangulation sneaks into the text either way
     const std::string text = st::shape_to_brep(s);
-    EXPECT_LT(text.find("CASCADE Topology V2"), 4u) << text.substr(0, 60);  // after a blank line
+    EXPECT_LT(text.find("CASCADE Topology V2"), 4u) << text.substr(0, 60); // after a blank line
     EXPECT_EQ(text.find("Triangulations 1"), std::string::npos);
 
     const TopoDS_Shape back = read_brep(text);

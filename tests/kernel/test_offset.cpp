@@ -55,9 +55,8 @@ TriangleMesh rotated(TriangleMesh mesh, double ax, double ay) {
 
 /// z = 2 sin(x/3) cos(y/4) over [-a/2, a/2]^2.
 TriangleMesh wavy_patch(double a, int n) {
-  return grid_patch(n, -a / 2, a / 2, -a / 2, a / 2, [](double x, double y) {
-    return Vec3(x, y, 2.0 * std::sin(x / 3.0) * std::cos(y / 4.0));
-  });
+  return grid_patch(n, -a / 2, a / 2, -a / 2, a / 2,
+                    [](double x, double y) { return Vec3(x, y, 2.0 * std::sin(x / 3.0) * std::cos(y / 4.0)); });
 }
 
 // ---- reference geometry (written independently of the kernel) --------------------------------------
@@ -75,8 +74,7 @@ double triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3
   const double n2 = n.squaredNorm();
   if (n2 > 0) {
     const Vec3 x = p - n * (n.dot(p - a) / n2);
-    if (n.dot((b - a).cross(x - a)) >= 0 && n.dot((c - b).cross(x - b)) >= 0 &&
-        n.dot((a - c).cross(x - c)) >= 0)
+    if (n.dot((b - a).cross(x - a)) >= 0 && n.dot((c - b).cross(x - b)) >= 0 && n.dot((a - c).cross(x - c)) >= 0)
       return std::abs(n.dot(p - a)) / std::sqrt(n2);
   }
   return std::min({segment_distance(p, a, b), segment_distance(p, b, c), segment_distance(p, c, a)});
@@ -100,8 +98,8 @@ double max_distance_error(const TriangleMesh& offset, const TriangleMesh& patch,
 
 struct EdgeReport {
   std::size_t edges = 0;
-  std::size_t border = 0;        // used by one triangle
-  std::size_t non_manifold = 0;  // used by three or more triangles
+  std::size_t border = 0;         // used by one triangle
+  std::size_t non_manifold = 0;   // used by three or more triangles
   std::size_t same_direction = 0; // used twice in the same direction (inconsistent orientation)
   std::size_t degenerate = 0;     // triangles repeating a vertex
 };
@@ -193,8 +191,8 @@ std::size_t self_intersection_count(const TriangleMesh& mesh, double cell) {
           for (int k = 0; k < 3; ++k) {
             const Index u = s[k];
             const Index v = s[(k + 1) % 3];
-            if (shared == 1 && (std::find(t.begin(), t.end(), u) != t.end() ||
-                                std::find(t.begin(), t.end(), v) != t.end()))
+            if (shared == 1 &&
+                (std::find(t.begin(), t.end(), u) != t.end() || std::find(t.begin(), t.end(), v) != t.end()))
               continue; // an edge through the shared vertex touches t there
             if (segment_crosses_triangle(mesh.positions[u], mesh.positions[v], mesh.positions[t[0]],
                                          mesh.positions[t[1]], mesh.positions[t[2]]))
@@ -335,8 +333,7 @@ TEST(Offset, SphericalCapOffsetLiesOnTheLargerSphere) {
   // The patch is inscribed in the sphere: its faces lie up to the sagitta below it.
   double edge = 0.0;
   for (const auto& t : patch.triangles)
-    for (int k = 0; k < 3; ++k)
-      edge = std::max(edge, (patch.positions[t[k]] - patch.positions[t[(k + 1) % 3]]).norm());
+    for (int k = 0; k < 3; ++k) edge = std::max(edge, (patch.positions[t[k]] - patch.positions[t[(k + 1) % 3]]).norm());
   const double sagitta = edge * edge / (8 * r);
 
   std::size_t inside = 0;
@@ -378,9 +375,8 @@ TEST(Offset, ConcaveCapCloserThanTheDistanceIsOffsetAtTheRightDistance) {
 TEST(Offset, PatchWithASmallHoleIsOffsetOverTheHole) {
   // An annulus (radii 1.2 and 10): over the hole the closest points lie on its border all around.
   const int n = 40;
-  TriangleMesh patch = grid_patch(n, 0, 2 * std::numbers::pi, 1.2, 10, [](double a, double r) {
-    return Vec3(r * std::cos(a), r * std::sin(a), 0.0);
-  });
+  TriangleMesh patch = grid_patch(n, 0, 2 * std::numbers::pi, 1.2, 10,
+                                  [](double a, double r) { return Vec3(r * std::cos(a), r * std::sin(a), 0.0); });
   for (auto& t : patch.triangles) // close the seam: the column at 2 pi is the column at 0
     for (Index& v : t)
       if (v % (n + 1) == static_cast<Index>(n)) v -= n;

@@ -86,16 +86,22 @@ TEST(Plan, MeshFileSpaceFromTheFilesStart) {
     std::string name, text;
     Space expect;
   } files[] = {
-      {"a.ply", "ply\nformat ascii 1.0\ncomment made by Slicer SPACE=RAS\nelement vertex 3\nproperty float x\n"
-                "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-                "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", Space::RAS},
-      {"b.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-                "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"
-                "comment SPACE=RAS after the header is data, not a header\n", Space::LPS},
+      {"a.ply",
+       "ply\nformat ascii 1.0\ncomment made by Slicer SPACE=RAS\nelement vertex 3\nproperty float x\n"
+       "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+       "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+       Space::RAS},
+      {"b.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+       "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"
+       "comment SPACE=RAS after the header is data, not a header\n",
+       Space::LPS},
       {"c.obj", "# SPACE=RAS\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", Space::RAS},
       {"d.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", Space::LPS},
-      {"e.stl", "solid bone SPACE=RAS\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
-                "endloop\nendfacet\nendsolid bone\n", Space::RAS},
+      {"e.stl",
+       "solid bone SPACE=RAS\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+       "endloop\nendfacet\nendsolid bone\n",
+       Space::RAS},
   };
   for (const File& f : files) {
     const std::string path = write(dir / f.name, f.text);
@@ -155,7 +161,8 @@ TEST(Plan, SlicerMarkupsIntoARasBone) {
 }
 
 TEST(Plan, CoordinateUnitsAsSlicersCodedEntry) {
-  const std::string text = "{" + kSchema + R"(, "markups": [{"type": "Line", "coordinateUnits": ["um", "UCUM", "micrometer"],
+  const std::string text =
+      "{" + kSchema + R"(, "markups": [{"type": "Line", "coordinateUnits": ["um", "UCUM", "micrometer"],
     "controlPoints": [{"position": [0, 0, 0]}, {"position": [0, 0, -4000]}]}]})";
   EXPECT_DOUBLE_EQ(*parse_markups(text, "coded.mrk.json", Space::LPS).axes[0].depth, 4.0);
 }
@@ -187,7 +194,8 @@ TEST(Plan, MalformedMarkupsNameTheFileAndTheEntry) {
       {markups(R"({"type": "ClosedCurve", "controlPoints": [{"position": [0,0,1e999]}]})"), "not valid JSON"},
       {markups(R"({"type": "ClosedCurve", "controlPoints": [{"position": [0,0,0]}, {"position": [1,0,0]}]})"),
        "at least 3"},
-      {markups(R"({"type": "ClosedCurve", "controlPoints": [{"label": "x"}]})"), "controlPoints[0].position: is required"},
+      {markups(R"({"type": "ClosedCurve", "controlPoints": [{"label": "x"}]})"),
+       "controlPoints[0].position: is required"},
       {markups(R"({"controlPoints": []})"), "markups[0].type: is required"},
       {markups(R"({"type": "Angle"})"), "nothing to plan with"},
   };
@@ -199,12 +207,14 @@ TEST(Plan, MalformedMarkupsNameTheFileAndTheEntry) {
 }
 
 TEST(Plan, CsvOfAxesWithDirectionsOrTargets) {
-  const Plan p = parse_plan_csv("\xEF\xBB\xBF# implant axes\r\n"
-                                "Name;Entry X (mm);entry_y;entry_z;target_x;target_y;target_z;inner_diameter;outer_diameter;length;offset;comment\r\n"
-                                "\"16; upper right\";1;2;3;1;2;-7;2.2;4.4;5;3;first\r\n"
-                                "\r\n"
-                                "13;0;0;0;0;4;3;2.2;4.4;6;;\r\n",
-                                "axes.csv", Space::LPS);
+  const Plan p = parse_plan_csv(
+      "\xEF\xBB\xBF# implant axes\r\n"
+      "Name;Entry X "
+      "(mm);entry_y;entry_z;target_x;target_y;target_z;inner_diameter;outer_diameter;length;offset;comment\r\n"
+      "\"16; upper right\";1;2;3;1;2;-7;2.2;4.4;5;3;first\r\n"
+      "\r\n"
+      "13;0;0;0;0;4;3;2.2;4.4;6;;\r\n",
+      "axes.csv", Space::LPS);
   ASSERT_EQ(p.axes.size(), 2u);
   EXPECT_EQ(p.axes[0].name, "16; upper right");
   EXPECT_EQ(p.axes[0].source, "axes.csv:3");
@@ -248,7 +258,8 @@ TEST(Plan, MalformedCsvNamesTheLineAndTheColumn) {
       {"name entry_x\n", "bad.csv:1: the first line must name the columns"},
       {"name,entry_x,entry_y\nA,1,2\n", "bad.csv:1: no column \"entry_z\""},
       {"name,entry_x,entry_y,entry_z\nA,1,2,3\n", "either direction"},
-      {"name,entry_x,entry_y,entry_z,direction_x,direction_y,direction_z,target_x,target_y,target_z\n", "either direction"},
+      {"name,entry_x,entry_y,entry_z,direction_x,direction_y,direction_z,target_x,target_y,target_z\n",
+       "either direction"},
       {"name,entry_x,entry_y,entry_z,direction_x\n", "no column \"direction_y\""},
       {"entry_x,entry_x,entry_y,entry_z,direction_x,direction_y,direction_z\n", "appears twice"},
       {head, "holds no axes"},
@@ -265,8 +276,7 @@ TEST(Plan, MalformedCsvNamesTheLineAndTheColumn) {
       {head + "\"A,1,2,3,0,0,1\n", "not closed"},
       {"# space=XYZ\n" + head, "space must be LPS or RAS"},
       {"name,entry_x,entry_y,entry_z,target_x,target_y,target_z\nA,1,2,3,1,2,3\n", "must differ from the entry"},
-      {"name,entry_x,entry_y,entry_z,direction_x,direction_y,direction_z,inner_radius,inner_diameter\n",
-       "not both"},
+      {"name,entry_x,entry_y,entry_z,direction_x,direction_y,direction_z,inner_radius,inner_diameter\n", "not both"},
       {std::string("name,entry_x\0,y", 15) + "\n", "binary"},
   };
   for (const Bad& b : bad) {
@@ -311,8 +321,9 @@ TEST(Plan, SleeveCatalogue) {
 
 TEST(Plan, AxesBecomeTubesWithSizesFromThePlanOrAPreset) {
   const Plan p = parse_markups(kMarkups, "plan.mrk.json", Space::LPS);
-  EXPECT_NE(error_of([&] { tube_from_axis(p.axes[0], std::nullopt); }).find("axis \"16\": the plan gives no inner_radius"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of([&] { tube_from_axis(p.axes[0], std::nullopt); }).find("axis \"16\": the plan gives no inner_radius"),
+      std::string::npos);
   const SleevePreset& preset = find_sleeve_preset(default_sleeve_presets(), "kwire-2.0");
   const TubeSpec t = tube_from_axis(p.axes[0], preset);
   EXPECT_DOUBLE_EQ(t.inner_radius, preset.inner_radius);
@@ -374,8 +385,9 @@ TEST(Plan, CaseMarkupsErrorsNameTheKey) {
       {case_text(R"({"markups": "missing.mrk.json"})", tube_ok), "missing.mrk.json: cannot open the markups file"},
       {case_text(R"({"markups": "line.mrk.json"})", tube_ok), "boundary.markups"},
       {case_text(R"({"points": [[0,0,0],[1,0,0],[0,1,0]], "markups": "line.mrk.json"})", tube_ok), "not both"},
-      {case_text(R"({"points": [[0,0,0],[1,0,0],[0,1,0]]})",
-                 R"({"markups": "line.mrk.json", "entry": [0,0,0], "inner_radius": 1, "outer_radius": 2, "length": 5})"),
+      {case_text(
+           R"({"points": [[0,0,0],[1,0,0],[0,1,0]]})",
+           R"({"markups": "line.mrk.json", "entry": [0,0,0], "inner_radius": 1, "outer_radius": 2, "length": 5})"),
        "tubes[0]: give either markups"},
       {case_text(R"({"points": [[0,0,0],[1,0,0],[0,1,0]]})",
                  R"({"markups": "line.mrk.json", "inner_radius": 1, "outer_radius": 2, "length": 5, "depth": -1})"),
@@ -385,7 +397,8 @@ TEST(Plan, CaseMarkupsErrorsNameTheKey) {
     const std::string message = error_of([&] { read_case(write(dir / "case.json", b.text)); });
     EXPECT_NE(message.find(b.expect), std::string::npos) << "expected '" << b.expect << "' in: " << message;
   }
-  const CaseFile ok = read_case(write(dir / "case.json", case_text(R"({"points": [[0,0,0],[1,0,0],[0,1,0]]})", tube_ok)));
+  const CaseFile ok =
+      read_case(write(dir / "case.json", case_text(R"({"points": [[0,0,0],[1,0,0],[0,1,0]]})", tube_ok)));
   ASSERT_EQ(ok.tubes.size(), 1u);
   EXPECT_DOUBLE_EQ(ok.tubes[0].depth, 5.0);
   expect_near(ok.tubes[0].direction, {0, 0, -1});

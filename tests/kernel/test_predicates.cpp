@@ -149,8 +149,7 @@ int naive_orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   const double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
   const double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
   const double adz = a[2] - d[2], bdz = b[2] - d[2], cdz = c[2] - d[2];
-  const double det = adz * (bdx * cdy - cdx * bdy) + bdz * (cdx * ady - adx * cdy) +
-                     cdz * (adx * bdy - bdx * ady);
+  const double det = adz * (bdx * cdy - cdx * bdy) + bdz * (cdx * ady - adx * cdy) + cdz * (adx * bdy - bdx * ady);
   return (det > 0) - (det < 0);
 }
 
@@ -168,14 +167,14 @@ TEST(Orient2d, BasicSignsAndDegenerateInput) {
   EXPECT_EQ(st::orient2d(o, x, y), 1);
   EXPECT_EQ(st::orient2d(o, y, x), -1);
   EXPECT_EQ(st::orient2d(x, y, o), 1);
-  EXPECT_EQ(st::orient2d(o, xy, m), 0);   // collinear
-  EXPECT_EQ(st::orient2d(o, o, x), 0);    // repeated point
+  EXPECT_EQ(st::orient2d(o, xy, m), 0); // collinear
+  EXPECT_EQ(st::orient2d(o, o, x), 0);  // repeated point
   EXPECT_EQ(st::orient2d(x, x, x), 0);
   EXPECT_EQ(st::orient2d(o, o, o), 0);
   const double tiny[2] = {0x1p-1074, 0}, tiny_up[2] = {0, 0x1p-1074};
-  EXPECT_EQ(st::orient2d(o, tiny, tiny_up), 1);  // subnormal: products underflow to zero
+  EXPECT_EQ(st::orient2d(o, tiny, tiny_up), 1); // subnormal: products underflow to zero
   const double big1[2] = {0x1p1020, 0}, big2[2] = {0, 0x1p1020};
-  EXPECT_EQ(st::orient2d(o, big1, big2), 1);     // products overflow
+  EXPECT_EQ(st::orient2d(o, big1, big2), 1); // products overflow
   EXPECT_EQ(st::orient2d(big2, big1, o), -1);
 }
 
@@ -185,9 +184,9 @@ TEST(Orient3d, ConventionPositiveBelowThePlane) {
   EXPECT_EQ(st::orient3d(a, b, c, Vec3(0, 0, -1)), 1);
   EXPECT_EQ(st::orient3d(a, b, c, Vec3(0.3, 0.3, 1e-300)), -1);
   EXPECT_EQ(st::orient3d(a, b, c, Vec3(5, -7, 0)), 0);
-  EXPECT_EQ(st::orient3d(b, a, c, Vec3(0, 0, -1)), -1);  // odd permutation flips the sign
-  EXPECT_EQ(st::orient3d(a, b, Vec3(2, 0, 0), Vec3(1, 2, 3)), 0);  // collinear a, b, c
-  EXPECT_EQ(st::orient3d(a, a, c, Vec3(1, 2, 3)), 0);               // repeated point
+  EXPECT_EQ(st::orient3d(b, a, c, Vec3(0, 0, -1)), -1);           // odd permutation flips the sign
+  EXPECT_EQ(st::orient3d(a, b, Vec3(2, 0, 0), Vec3(1, 2, 3)), 0); // collinear a, b, c
+  EXPECT_EQ(st::orient3d(a, a, c, Vec3(1, 2, 3)), 0);             // repeated point
   EXPECT_EQ(st::orient3d(a, b, c, a), 0);
   EXPECT_EQ(st::orient3d(a, a, a, a), 0);
   // Non-finite input is outside the contract but must not crash or hang.
@@ -205,13 +204,13 @@ TEST(Orient3d, ConventionPositiveBelowThePlane) {
 // far away on the line y = x. Plain double evaluation gets many signs wrong.
 TEST(Orient2d, UlpGridNearALineMatchesExactReference) {
   const double q[2] = {12, 12}, r[2] = {24, 24};
-  const double u = 0x1p-53;  // ulp of 0.5
+  const double u = 0x1p-53; // ulp of 0.5
   int naive_wrong = 0, checked = 0;
   for (int i = 0; i < 256; ++i)
     for (int j = 0; j < 256; ++j) {
       const double p[2] = {0.5 + i * u, 0.5 + j * u};
       const int expected = reference_orient2d(p, q, r);
-      ASSERT_EQ(expected, (j > i) - (j < i));  // p left of q -> r when above the line
+      ASSERT_EQ(expected, (j > i) - (j < i)); // p left of q -> r when above the line
       ASSERT_EQ(st::orient2d(p, q, r), expected) << i << " " << j;
       ASSERT_EQ(st::orient2d(q, r, p), expected);
       ASSERT_EQ(st::orient2d(r, q, p), -expected);
@@ -226,7 +225,7 @@ TEST(Orient2d, UlpGridNearALineMatchesExactReference) {
 // far points.
 TEST(Orient3d, UlpGridNearAPlaneMatchesExactReference) {
   const Vec3 a(12, 12, -21.75), b(24, -12, -9.75), c(-8, 20, -9.75);
-  const double u = 0x1p-53;  // ulp in [0.5, 1)
+  const double u = 0x1p-53; // ulp in [0.5, 1)
   int naive_wrong = 0, zeros = 0;
   for (int i = -12; i <= 12; ++i)
     for (int j = -12; j <= 12; ++j)
@@ -250,7 +249,7 @@ TEST(Orient3d, UlpGridNearAPlaneMatchesExactReference) {
 // x + y + z = 3e8 + 0.25 far from a, b, c.
 TEST(Orient3d, LargeCoordinatesWithUlpPerturbations) {
   const Vec3 a(1e8, 1e8, 1e8 + 0.25), b(2e8 + 0.5, 0.5e8, 0.5e8 - 0.25), c(0.25e8, 2.5e8, 0.25e8 + 0.25);
-  const Vec3 e(5.5e8 + 1.5, -3.5e8, 1e8 - 1.25);  // e = a + 3 (b - a) - 2 (c - a)
+  const Vec3 e(5.5e8 + 1.5, -3.5e8, 1e8 - 1.25); // e = a + 3 (b - a) - 2 (c - a)
   ASSERT_EQ(st::orient3d(a, b, c, e), 0);
   ASSERT_EQ(reference_orient3d(a, b, c, e), 0);
   int naive_wrong = 0, nonzero = 0;
@@ -281,7 +280,7 @@ TEST(Orient3d, RandomNearlyCoplanarPointsMatchExactReference) {
     const int s = scale(rng);
     auto point = [&] { return Vec3(snap(coord(rng)), snap(coord(rng)), snap(coord(rng))); };
     Vec3 a = point(), b = point(), c = point();
-    const bool exact = coin(rng);  // exactly coplanar before the nudge
+    const bool exact = coin(rng); // exactly coplanar before the nudge
     const double w1 = exact ? small(rng) : weight(rng), w2 = exact ? small(rng) : weight(rng);
     Vec3 d = a + w1 * (b - a) + w2 * (c - a);
     const bool nudge = coin(rng);
@@ -383,7 +382,7 @@ TEST(Orient2d, ExtremeMagnitudesAndSpansKeepTheSign) {
     const int expected = reference_orient2d(base[0], base[1], base[2]);
     for (int ex : exponents)
       for (int ey : exponents) {
-        if (ex < -1060 || ey < -1060) continue;  // keep 2^50-sized integers exact
+        if (ex < -1060 || ey < -1060) continue; // keep 2^50-sized integers exact
         double s[3][2];
         for (int i = 0; i < 3; ++i) {
           s[i][0] = std::ldexp(base[i][0], ex);
@@ -411,10 +410,10 @@ TEST(Orient3d, HugeAndTinyCoordinatesInOneCall) {
   EXPECT_EQ(st::orient3d(p, q, r, Vec3(0x1p-500, 0x1p-600, 0x1p-1074)), -1);
   EXPECT_EQ(st::orient3d(p, q, r, Vec3(0x1p-500, 0x1p-600, 0)), 0);
   // ... and with the plane itself tilted so that its height at d is exactly d's height.
-  const Vec3 r_tilted(0, 0x1p1000, 0x1p-73);  // height 2^-73 (y + 2^1000) / 2^1001
+  const Vec3 r_tilted(0, 0x1p1000, 0x1p-73); // height 2^-73 (y + 2^1000) / 2^1001
   EXPECT_EQ(st::orient3d(p, q, r_tilted, Vec3(0, -0x1p1000, 0)), 0);
   EXPECT_EQ(st::orient3d(p, q, r_tilted, Vec3(0, -0x1p1000, 0x1p-1074)), -1);
-  EXPECT_EQ(st::orient3d(p, q, r_tilted, Vec3(5, 0, 0x1p-74)), 0);          // on the plane
-  EXPECT_EQ(st::orient3d(p, q, r_tilted, Vec3(5, 0x1p-1000, 0x1p-74)), 1);  // just below it
+  EXPECT_EQ(st::orient3d(p, q, r_tilted, Vec3(5, 0, 0x1p-74)), 0);         // on the plane
+  EXPECT_EQ(st::orient3d(p, q, r_tilted, Vec3(5, 0x1p-1000, 0x1p-74)), 1); // just below it
   EXPECT_EQ(st::orient3d(p, q, r_tilted, Vec3(5, -0x1p-1000, 0x1p-74)), -1);
 }

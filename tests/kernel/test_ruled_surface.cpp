@@ -54,8 +54,8 @@ TEST(RuledSurface, StripDoesNotCrossItself) {
     for (std::size_t b = a + 1; b < r.triangles.size(); ++b) {
       const Triangle& ta = r.triangles[a];
       const Triangle& tb = r.triangles[b];
-      EXPECT_FALSE(mesh_triangles_intersect(ta, {pts[ta[0]], pts[ta[1]], pts[ta[2]]}, tb,
-                                            {pts[tb[0]], pts[tb[1]], pts[tb[2]]}))
+      EXPECT_FALSE(
+          mesh_triangles_intersect(ta, {pts[ta[0]], pts[ta[1]], pts[ta[2]]}, tb, {pts[tb[0]], pts[tb[1]], pts[tb[2]]}))
           << a << " " << b;
     }
 }

@@ -38,25 +38,23 @@ TEST(MeshIoStl, AsciiOctahedronSeamsWelded) {
 }
 
 TEST(MeshIoStl, AsciiToleratesCaseWhitespaceCrlfAndSeveralSolids) {
-  const std::string text =
-      "  SOLID first part\r\n"
-      "FACET NORMAL nan nan nan\r\n\tOUTER LOOP\r\n"
-      "\t\tVERTEX 0 0 0\r\n vertex\t1e0   0 0\r\n vertex +0 1 -0\r\n ENDLOOP\r\nENDFACET\r\n"
-      "endsolid first part\r\n"
-      "solid second\n facet normal 0 0 1 outer loop vertex 0 0 0 vertex 1 0 0 vertex 0 0 1 "
-      "endloop endfacet\nendsolid";
+  const std::string text = "  SOLID first part\r\n"
+                           "FACET NORMAL nan nan nan\r\n\tOUTER LOOP\r\n"
+                           "\t\tVERTEX 0 0 0\r\n vertex\t1e0   0 0\r\n vertex +0 1 -0\r\n ENDLOOP\r\nENDFACET\r\n"
+                           "endsolid first part\r\n"
+                           "solid second\n facet normal 0 0 1 outer loop vertex 0 0 0 vertex 1 0 0 vertex 0 0 1 "
+                           "endloop endfacet\nendsolid";
   st::ReadReport report;
   const st::TriangleMesh m = read_memory(text, st::MeshFormat::Stl, &report);
   EXPECT_EQ(m.face_count(), 2u);
-  EXPECT_EQ(m.vertex_count(), 4u);  // (0,0,0) and (1,0,0) shared, -0 welded with 0
+  EXPECT_EQ(m.vertex_count(), 4u); // (0,0,0) and (1,0,0) shared, -0 welded with 0
   EXPECT_EQ(report.header, "SOLID first part\nsolid second");
 }
 
 TEST(MeshIoStl, AsciiErrorsNameTheLine) {
   expect_invalid(
       [] {
-        read_memory("solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 oops 0\n",
-                    st::MeshFormat::Stl);
+        read_memory("solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 oops 0\n", st::MeshFormat::Stl);
       },
       {"memory", "line 5", "oops"});
   expect_invalid(
@@ -87,38 +85,31 @@ TEST(MeshIoStl, TruncatedBinaryThrowsWithSizes) {
   bytes.resize(bytes.size() - 10);
   const std::string path = temp_path("truncated.stl");
   write_bytes(path, bytes);
-  expect_invalid([&] { st::read_mesh(path); },
-                 {path, "truncated", "8 triangles", "needs 484 bytes", "has 474 bytes"});
+  expect_invalid([&] { st::read_mesh(path); }, {path, "truncated", "8 triangles", "needs 484 bytes", "has 474 bytes"});
   // The same with a header starting with "solid": still reported as a truncated binary file.
   std::string solid = stl_binary(octahedron(), "solid name");
   solid.resize(solid.size() - 50);
   expect_invalid([&] { read_memory(solid, st::MeshFormat::Stl); }, {"truncated", "8 triangles"});
   // Shorter than the header.
-  expect_invalid([] { read_memory(std::string(40, '\x01'), st::MeshFormat::Stl); },
-                 {"truncated", "40 bytes"});
+  expect_invalid([] { read_memory(std::string(40, '\x01'), st::MeshFormat::Stl); }, {"truncated", "40 bytes"});
 }
 
 TEST(MeshIoStl, ZeroTrianglesThrows) {
-  expect_invalid([] { read_memory(stl_binary(st::TriangleMesh{}), st::MeshFormat::Stl); },
-                 {"contains no triangles"});
-  expect_invalid([] { read_memory("solid empty\nendsolid empty\n", st::MeshFormat::Stl); },
-                 {"contains no triangles"});
+  expect_invalid([] { read_memory(stl_binary(st::TriangleMesh{}), st::MeshFormat::Stl); }, {"contains no triangles"});
+  expect_invalid([] { read_memory("solid empty\nendsolid empty\n", st::MeshFormat::Stl); }, {"contains no triangles"});
 }
 
 TEST(MeshIoStl, NonFiniteCoordinateNamesTriangleAndCorner) {
   st::TriangleMesh octa = octahedron();
   octa.positions.push_back(st::Vec3(std::numeric_limits<double>::quiet_NaN(), 0, 0));
   octa.triangles[5][1] = 6;
-  expect_invalid([&] { read_memory(stl_binary(octa), st::MeshFormat::Stl); },
-                 {"triangle 5", "corner 1", "non-finite"});
+  expect_invalid([&] { read_memory(stl_binary(octa), st::MeshFormat::Stl); }, {"triangle 5", "corner 1", "non-finite"});
   octa.positions[6] = st::Vec3(0, std::numeric_limits<double>::infinity(), 0);
-  expect_invalid([&] { read_memory(stl_binary(octa), st::MeshFormat::Stl); },
-                 {"triangle 5", "corner 1", "non-finite"});
+  expect_invalid([&] { read_memory(stl_binary(octa), st::MeshFormat::Stl); }, {"triangle 5", "corner 1", "non-finite"});
   // ASCII: the line too; values beyond float32 count as non-finite.
   std::string text = stl_ascii(octahedron());
   text.replace(text.find("vertex 1 0 0"), 12, "vertex 1e39 0 0");
-  expect_invalid([&] { read_memory(text, st::MeshFormat::Stl); },
-                 {"line 4", "facet 0", "corner 0", "non-finite"});
+  expect_invalid([&] { read_memory(text, st::MeshFormat::Stl); }, {"line 4", "facet 0", "corner 0", "non-finite"});
 }
 
 TEST(MeshIoStl, GarbageThrowsInvalidInput) {
@@ -150,7 +141,7 @@ TEST(MeshIoStl, DegenerateTrianglesDroppedAndCounted) {
   st::TriangleMesh m = octahedron();
   m.triangles.insert(m.triangles.begin() + 3, st::Triangle{0, 0, 2});
   m.triangles.push_back({4, 4, 4});
-  m.positions.push_back(m.positions[1]);  // welds with vertex 1
+  m.positions.push_back(m.positions[1]); // welds with vertex 1
   m.triangles.push_back({1, 6, 3});
   st::ReadReport report;
   const st::TriangleMesh back = read_memory(stl_binary(m), st::MeshFormat::Stl, &report);
@@ -163,8 +154,7 @@ TEST(MeshIoStl, DegenerateTrianglesDroppedAndCounted) {
   st::TriangleMesh all_bad;
   all_bad.positions = {{0, 0, 0}, {1, 0, 0}};
   all_bad.triangles = {{0, 0, 1}, {1, 1, 1}};
-  expect_invalid([&] { read_memory(stl_binary(all_bad), st::MeshFormat::Stl); },
-                 {"all 2 triangles are degenerate"});
+  expect_invalid([&] { read_memory(stl_binary(all_bad), st::MeshFormat::Stl); }, {"all 2 triangles are degenerate"});
 }
 
 TEST(MeshIoStl, LargeBinaryIsReadInLinearTime) {
@@ -182,11 +172,10 @@ TEST(MeshIoStl, LargeBinaryIsReadInLinearTime) {
   const std::string bytes = stl_binary(strip);
   const auto start = std::chrono::steady_clock::now();
   const st::TriangleMesh m = read_memory(bytes, st::MeshFormat::Stl);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_EQ(m.face_count(), 2u * n);
   EXPECT_EQ(m.vertex_count(), 2u * (n + 1));
-  EXPECT_LT(seconds, 5.0);  // about 0.02 s in a release build
+  EXPECT_LT(seconds, 5.0); // about 0.02 s in a release build
 }
 
 // ---- PLY ----------------------------------------------------------------------------------------

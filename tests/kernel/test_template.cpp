@@ -169,13 +169,12 @@ std::vector<std::string> example_cases() {
   return out;
 }
 
-INSTANTIATE_TEST_SUITE_P(Examples, ExampleCase, ::testing::ValuesIn(example_cases()),
-                         [](const auto& info) {
-                           std::string n = std::filesystem::path(info.param).stem().string();
-                           for (char& ch : n)
-                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-                           return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(Examples, ExampleCase, ::testing::ValuesIn(example_cases()), [](const auto& info) {
+  std::string n = std::filesystem::path(info.param).stem().string();
+  for (char& ch : n)
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  return n;
+});
 
 TEST(Template, SimplifiedOuterSurfaceKeepsTheShellValidWithFarFewerTriangles) {
   const CaseFile c = read_case(examples_dir() + "/cases/vertebra-pedicle.json");

@@ -56,8 +56,8 @@ void expect_segment(const Vec3& p, const Vec3& q, const Tri& t, bool expected) {
 }
 
 // mesh_triangles_intersect in all rotations and reflections of both index triples, both orders.
-void expect_mesh(const std::array<Index, 3>& ta, const Tri& pa, const std::array<Index, 3>& tb,
-                 const Tri& pb, bool expected) {
+void expect_mesh(const std::array<Index, 3>& ta, const Tri& pa, const std::array<Index, 3>& tb, const Tri& pb,
+                 bool expected) {
   std::array<int, 3> oa = {0, 1, 2};
   do {
     std::array<int, 3> ob = {0, 1, 2};
@@ -97,8 +97,7 @@ SimpleMesh disc_fan(int n, const Vec3& centre, const Vec3& u, const Vec3& v) {
     const double t = 2.0 * M_PI * i / n;
     m.positions.push_back(centre + std::cos(t) * u + std::sin(t) * v);
   }
-  for (int i = 0; i < n; ++i)
-    m.faces.push_back({0, Index(1 + i), Index(1 + (i + 1) % n)});
+  for (int i = 0; i < n; ++i) m.faces.push_back({0, Index(1 + i), Index(1 + (i + 1) % n)});
   return m;
 }
 
@@ -136,9 +135,9 @@ SimpleMesh sphere(int levels) {
 
 TEST(TriangleIntersection, SeparatedTriangles) {
   const Tri a = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
-  expect_intersect(a, {Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(0, 1, 1)}, false);         // parallel planes
-  expect_intersect(a, {Vec3(5, 5, -1), Vec3(6, 5, 1), Vec3(5, 6, 1)}, false);        // far away
-  expect_intersect(a, {Vec3(0.6, 0.6, -1), Vec3(0.6, 0.6, 1), Vec3(2, 2, 0)}, false);  // boxes overlap
+  expect_intersect(a, {Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(0, 1, 1)}, false);          // parallel planes
+  expect_intersect(a, {Vec3(5, 5, -1), Vec3(6, 5, 1), Vec3(5, 6, 1)}, false);         // far away
+  expect_intersect(a, {Vec3(0.6, 0.6, -1), Vec3(0.6, 0.6, 1), Vec3(2, 2, 0)}, false); // boxes overlap
   // b crosses a's plane, but on the line of the two planes they miss each other.
   expect_intersect(a, {Vec3(0.6, 0.6, -1), Vec3(0.6, 0.6, 1), Vec3(3, -1, 0)}, false);
 }
@@ -193,12 +192,12 @@ TEST(TriangleIntersection, CoplanarTriangles) {
 
 TEST(TriangleIntersection, DegenerateTrianglesAreSegmentsOrPoints) {
   const Tri a = {Vec3(0, 0, 0), Vec3(4, 0, 0), Vec3(0, 4, 0)};
-  const Tri needle = {Vec3(1, 1, -1), Vec3(1, 1, 1), Vec3(1, 1, 0.5)};  // collinear: the segment z in [-1, 1]
+  const Tri needle = {Vec3(1, 1, -1), Vec3(1, 1, 1), Vec3(1, 1, 0.5)}; // collinear: the segment z in [-1, 1]
   expect_intersect(a, needle, true);
   expect_intersect(a, {Vec3(1, 1, 1), Vec3(1, 1, 2), Vec3(1, 1, 3)}, false);
-  expect_intersect(a, {Vec3(1, 1, 0), Vec3(1, 1, 0), Vec3(1, 1, 0)}, true);   // a point on the face
-  expect_intersect(a, {Vec3(3, 3, 0), Vec3(3, 3, 0), Vec3(3, 3, 0)}, false);  // a point beside it
-  expect_intersect(a, {Vec3(-1, 2, 0), Vec3(5, 2, 0), Vec3(2, 2, 0)}, true);  // a segment in the plane
+  expect_intersect(a, {Vec3(1, 1, 0), Vec3(1, 1, 0), Vec3(1, 1, 0)}, true);  // a point on the face
+  expect_intersect(a, {Vec3(3, 3, 0), Vec3(3, 3, 0), Vec3(3, 3, 0)}, false); // a point beside it
+  expect_intersect(a, {Vec3(-1, 2, 0), Vec3(5, 2, 0), Vec3(2, 2, 0)}, true); // a segment in the plane
   expect_intersect(a, {Vec3(5, 2, 0), Vec3(6, 2, 0), Vec3(7, 2, 0)}, false);
   // Both degenerate: crossing, skew, collinear overlapping and collinear apart.
   expect_intersect({Vec3(0, 0, 0), Vec3(2, 2, 0), Vec3(1, 1, 0)}, {Vec3(0, 2, 0), Vec3(2, 0, 0), Vec3(0, 2, 0)}, true);
@@ -231,22 +230,22 @@ TEST(TriangleIntersection, LargeCoordinatesDecidedExactly) {
 
 TEST(TriangleIntersection, SegmentAgainstTriangle) {
   const Tri t = {Vec3(0, 0, 0), Vec3(4, 0, 0), Vec3(0, 4, 0)};
-  expect_segment(Vec3(1, 1, -1), Vec3(1, 1, 1), t, true);    // through the interior
-  expect_segment(Vec3(5, 5, -1), Vec3(5, 5, 1), t, false);   // beside it
-  expect_segment(Vec3(1, 1, 0), Vec3(1, 1, 1), t, true);     // ends on the face
+  expect_segment(Vec3(1, 1, -1), Vec3(1, 1, 1), t, true);  // through the interior
+  expect_segment(Vec3(5, 5, -1), Vec3(5, 5, 1), t, false); // beside it
+  expect_segment(Vec3(1, 1, 0), Vec3(1, 1, 1), t, true);   // ends on the face
   expect_segment(Vec3(1, 1, 1e-300), Vec3(1, 1, 1), t, false);
-  expect_segment(Vec3(0, 0, -1), Vec3(0, 0, 1), t, true);    // through a vertex
-  expect_segment(Vec3(2, 0, -1), Vec3(2, 0, 1), t, true);    // through an edge
-  expect_segment(Vec3(-1, 1, 0), Vec3(5, 1, 0), t, true);    // in the plane, across
-  expect_segment(Vec3(-1, 0, 0), Vec3(5, 0, 0), t, true);    // along an edge
-  expect_segment(Vec3(-1, 5, 0), Vec3(5, -1, 0), t, true);   // along the hypotenuse's line
-  expect_segment(Vec3(-1, 6, 0), Vec3(6, -1, 0), t, false);  // in the plane, parallel to the hypotenuse
+  expect_segment(Vec3(0, 0, -1), Vec3(0, 0, 1), t, true);   // through a vertex
+  expect_segment(Vec3(2, 0, -1), Vec3(2, 0, 1), t, true);   // through an edge
+  expect_segment(Vec3(-1, 1, 0), Vec3(5, 1, 0), t, true);   // in the plane, across
+  expect_segment(Vec3(-1, 0, 0), Vec3(5, 0, 0), t, true);   // along an edge
+  expect_segment(Vec3(-1, 5, 0), Vec3(5, -1, 0), t, true);  // along the hypotenuse's line
+  expect_segment(Vec3(-1, 6, 0), Vec3(6, -1, 0), t, false); // in the plane, parallel to the hypotenuse
   expect_segment(Vec3(-1, -1, 0), Vec3(-3, 5, 0), t, false);
-  expect_segment(Vec3(1, 1, 0), Vec3(1, 1, 0), t, true);     // a point segment
+  expect_segment(Vec3(1, 1, 0), Vec3(1, 1, 0), t, true); // a point segment
   expect_segment(Vec3(1, 1, 2), Vec3(1, 1, 2), t, false);
-  expect_segment(Vec3(1, 1, 1), Vec3(3, 3, -1), t, true);    // crosses the plane on the hypotenuse
+  expect_segment(Vec3(1, 1, 1), Vec3(3, 3, -1), t, true); // crosses the plane on the hypotenuse
   expect_segment(Vec3(1, 1, 1), Vec3(3.5, 3.5, -1), t, false);
-  const Tri flat = {Vec3(0, 0, 0), Vec3(2, 2, 2), Vec3(1, 1, 1)};  // a degenerate triangle
+  const Tri flat = {Vec3(0, 0, 0), Vec3(2, 2, 2), Vec3(1, 1, 1)}; // a degenerate triangle
   expect_segment(Vec3(0, 2, 0), Vec3(2, 0, 2), flat, true);
   expect_segment(Vec3(0, 2, 0), Vec3(2, 0, 3), flat, false);
   expect_segment(Vec3(3, 3, 3), Vec3(4, 4, 4), flat, false);
@@ -297,7 +296,7 @@ TEST(MeshTriangleIntersection, VertexNeighbours) {
   // b's opposite edge crosses a's plane just beside a, and b meets that plane along a ray from v that
   // passes a hair outside a's wedge.
   expect_mesh({0, 1, 2}, a, {0, 3, 4}, {v, Vec3(3, -0x1p-40, 1), Vec3(3, -0x1p-40, -1)}, false);
-  expect_mesh({0, 1, 2}, a, {0, 3, 4}, {v, Vec3(3, 0, 1), Vec3(3, 0, -1)}, true);  // along a's edge
+  expect_mesh({0, 1, 2}, a, {0, 3, 4}, {v, Vec3(3, 0, 1), Vec3(3, 0, -1)}, true); // along a's edge
   // b wholly above a's plane but for v.
   expect_mesh({0, 1, 2}, a, {0, 3, 4}, {v, Vec3(1, 1.5, 1), Vec3(1.5, 1, 1)}, false);
   // The corner of a cube: two faces meeting only at the corner.
@@ -333,7 +332,7 @@ TEST(MeshTriangleIntersection, FoldedStripIsFound) {
   SimpleMesh m;
   m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.2, 0.2, 0}};
   m.faces = {{0, 1, 2}, {1, 3, 2}, {2, 3, 4}};
-  EXPECT_EQ(count_self_intersections(m), 2);  // face 2 lies over face 0 (sharing vertex 2) and face 1
+  EXPECT_EQ(count_self_intersections(m), 2); // face 2 lies over face 0 (sharing vertex 2) and face 1
 }
 
 // ---- randomised comparison with the exact references ----------------------------------------------------
@@ -353,8 +352,7 @@ TEST(TriangleIntersection, RandomPairsMatchExactReference) {
     const bool deg = collinear_int(ia) || collinear_int(ib);
     degenerate += deg;
     bool in_plane = !deg;
-    for (const I3& q : ib)
-      in_plane = in_plane && det3(sub(ia[1], ia[0]), sub(ia[2], ia[0]), sub(q, ia[0])) == 0;
+    for (const I3& q : ib) in_plane = in_plane && det3(sub(ia[1], ia[0]), sub(ia[2], ia[0]), sub(q, ia[0])) == 0;
     coplanar += in_plane;
     bool share = false;
     for (const I3& p : ia)

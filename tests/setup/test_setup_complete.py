@@ -32,7 +32,7 @@ BUILD_DIRS = [os.path.join(ROOT, d) for d in os.environ.get("ST_BUILD_DIRS", "bu
 
 # The programs the Makefile, CI and the tests run (besides the compilers CMake records).
 PROGRAMS = ["cmake", "ctest", "make", "xvfb-run", "Xvfb", "xauth", "freecad", "freecadcmd",
-            "pdftotext", "pdftoppm", "/usr/bin/python3", "clang", "clang++"]
+            "pdftotext", "pdftoppm", "/usr/bin/python3", "clang", "clang++", "clang-format"]
 
 
 def read_package_list(path=PACKAGE_LIST):

@@ -49,8 +49,7 @@ std::string point_text(const Vec3& p) {
 
 /// Runs `f`, turning an OpenCASCADE exception (not derived from std::exception, so pybind11 would
 /// only report "unknown exception") into a GeometryError that names `what`.
-template <class F>
-auto occt_guard(const std::string& what, F&& f) {
+template <class F> auto occt_guard(const std::string& what, F&& f) {
   try {
     return f();
   } catch (const Standard_Failure& e) {
@@ -66,8 +65,7 @@ TopoDS_Shape single_solid(const TopoDS_Shape& shape, const std::string& what) {
   TopoDS_Shape solid;
   int count = 0;
   for (TopExp_Explorer ex(shape, TopAbs_SOLID); ex.More(); ex.Next(), ++count) solid = ex.Current();
-  if (count != 1)
-    throw GeometryError(what + ": expected one solid from OpenCASCADE, got " + std::to_string(count));
+  if (count != 1) throw GeometryError(what + ": expected one solid from OpenCASCADE, got " + std::to_string(count));
   return solid;
 }
 
@@ -107,10 +105,10 @@ void require_closed_outward(const TriangleMesh& mesh) {
   }
   if (border + repeated > 0) {
     const Vec3& p = mesh.positions[static_cast<Index>(first_bad >> 32)];
-    throw GeometryError("tessellate_shape: the welded mesh is not a closed, oriented surface: " +
-                        std::to_string(border) + " border edges, " + std::to_string(repeated) +
-                        " edges used twice the same way, the first at " + point_text(p) +
-                        " mm (is the shape a closed solid?)");
+    throw GeometryError(
+        "tessellate_shape: the welded mesh is not a closed, oriented surface: " + std::to_string(border) +
+        " border edges, " + std::to_string(repeated) + " edges used twice the same way, the first at " + point_text(p) +
+        " mm (is the shape a closed solid?)");
   }
   const double volume = signed_volume(mesh);
   if (!(volume > 0.0))
@@ -181,7 +179,7 @@ TriangleMesh tessellate_shape(const TopoDS_Shape& shape, double linear_deflectio
 
     TriangleMesh mesh;
     std::unordered_map<NodeKey, Index, NodeKeyHash> welded;
-    std::vector<Index> local;  // node of the current face -> welded vertex
+    std::vector<Index> local; // node of the current face -> welded vertex
     int face_number = 0;
     for (TopExp_Explorer ex(work, TopAbs_FACE); ex.More(); ex.Next(), ++face_number) {
       const TopoDS_Face& face = TopoDS::Face(ex.Current());

@@ -29,7 +29,6 @@ void check_operand(const TriangleMesh& mesh, const std::string& what) {
 
 } // namespace
 
-
 void check_closed_manifold(const TriangleMesh& mesh, const std::string& what) {
   const MeshTopology topology(mesh);
   std::size_t open = 0;
@@ -39,13 +38,11 @@ void check_closed_manifold(const TriangleMesh& mesh, const std::string& what) {
       if (open++ == 0) where = mesh.positions[topology.from_vertex(h)];
     }
   if (open > 0)
-    throw InvalidInput(what + " is not a closed, 2-manifold, consistently oriented surface: " +
-                       std::to_string(open) + " edge(s) without a proper partner face, the first near " +
-                       detail::where(where));
+    throw InvalidInput(what + " is not a closed, 2-manifold, consistently oriented surface: " + std::to_string(open) +
+                       " edge(s) without a proper partner face, the first near " + detail::where(where));
 }
 
-BooleanResult mesh_boolean(const TriangleMesh& a, const TriangleMesh& b, BooleanOp op,
-                           const BooleanOptions& options) {
+BooleanResult mesh_boolean(const TriangleMesh& a, const TriangleMesh& b, BooleanOp op, const BooleanOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   if (options.check_operands) {
     check_operand(a, "the first operand");

@@ -139,9 +139,9 @@ private:
     }
     struct Event {
       Index point;
-      int side;  // 0: an edge of fa crosses fb; 1: an edge of fb crosses fa
-      int edge;  // which edge of its face
-      double t;  // parameter along that edge, from its corner `edge`
+      int side; // 0: an edge of fa crosses fb; 1: an edge of fb crosses fa
+      int edge; // which edge of its face
+      double t; // parameter along that edge, from its corner `edge`
     };
     std::array<Event, 4> events{};
     int count = 0;
@@ -395,8 +395,7 @@ private:
       for (std::size_t id = na_ + nb_; id < total; ++id)
         if (remap[id] != kInvalidIndex) seam_vertex[remap[id]] = 1;
       result.collapsed_edges = collapse_short_edges(result, seam_vertex, short_edge_, fresh, unchanged);
-      if (debug_)
-        std::fprintf(stderr, "  collapsed %zu edges under %.3g\n", result.collapsed_edges, short_edge_);
+      if (debug_) std::fprintf(stderr, "  collapsed %zu edges under %.3g\n", result.collapsed_edges, short_edge_);
     }
     check_fresh(out, fresh, unchanged);
     result.intersecting_pairs = seam_.size();
@@ -519,7 +518,8 @@ private:
 
   // After rounding, the faces near the curves must still be proper triangles that do not cross each
   // other or the unchanged faces around them.
-  void check_fresh(const TriangleMesh& out, const std::vector<Index>& fresh, const std::vector<Index>& unchanged) const {
+  void check_fresh(const TriangleMesh& out, const std::vector<Index>& fresh,
+                   const std::vector<Index>& unchanged) const {
     for (Index f : fresh) {
       const Triangle& t = out.triangles[f];
       if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) throw Degenerate{"two corners rounded together"};

@@ -33,8 +33,8 @@ inline std::uint64_t edge_key(Index u, Index v) {
 }
 
 struct PointKey {
-  std::uint64_t edge;  // the crossing edge, as its (sorted) vertex pair in the shared id space
-  Index face;          // the crossed face, in the shared face id space (B faces after A's)
+  std::uint64_t edge; // the crossing edge, as its (sorted) vertex pair in the shared id space
+  Index face;         // the crossed face, in the shared face id space (B faces after A's)
   bool operator==(const PointKey&) const = default;
 };
 struct PointKeyHash {

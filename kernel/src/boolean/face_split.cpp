@@ -333,13 +333,12 @@ std::vector<Triangle> split_face(const FaceSplitInput& input) {
     return std::array<double, 2>{d.dot(x), d.dot(y)};
   };
   std::array<std::array<double, 2>, 3> c2d = {std::array<double, 2>{0.0, 0.0}, to2d(input.corners[1]),
-                                               to2d(input.corners[2])};
+                                              to2d(input.corners[2])};
   c2d[1][1] = 0.0;
   std::vector<Vertex> corners(3);
   for (int k = 0; k < 3; ++k)
     corners[k] = {{c2d[k][0], c2d[k][1]}, input.corner_ids[k], (1u << k) | (1u << ((k + 2) % 3))};
-  if (orient2d(corners[0].xy, corners[1].xy, corners[2].xy) <= 0)
-    throw GeometryError("face split: a degenerate face");
+  if (orient2d(corners[0].xy, corners[1].xy, corners[2].xy) <= 0) throw GeometryError("face split: a degenerate face");
   Triangulation tri(corners);
 
   std::unordered_map<Index, int> local; // caller id -> vertex

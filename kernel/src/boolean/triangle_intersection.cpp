@@ -25,22 +25,16 @@ inline Point2 project(int k, const Vec3& p) {
   return {{d[(k + 1) % 3], d[(k + 2) % 3]}};
 }
 
-inline int orient2(const Point2& a, const Point2& b, const Point2& c) {
-  return orient2d(a.xy, b.xy, c.xy);
-}
+inline int orient2(const Point2& a, const Point2& b, const Point2& c) { return orient2d(a.xy, b.xy, c.xy); }
 
 inline int orient2_dropping(int k, const Vec3& a, const Vec3& b, const Vec3& c) {
   return orient2(project(k, a), project(k, b), project(k, c));
 }
 
-inline bool same_point(const Vec3& a, const Vec3& b) {
-  return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
-}
+inline bool same_point(const Vec3& a, const Vec3& b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
 
 // True when the signs contain both a positive and a negative one.
-inline bool mixed(int s0, int s1, int s2) {
-  return (s0 < 0 || s1 < 0 || s2 < 0) && (s0 > 0 || s1 > 0 || s2 > 0);
-}
+inline bool mixed(int s0, int s1, int s2) { return (s0 < 0 || s1 < 0 || s2 < 0) && (s0 > 0 || s1 > 0 || s2 > 0); }
 
 // The coordinate to drop so that the projection of triangle (a, b, c) is non-degenerate, or -1 when
 // the three points are collinear (all three exact normal components vanish). The axis of the largest
@@ -51,8 +45,7 @@ int projection_axis(const Vec3& a, const Vec3& b, const Vec3& c) {
   const double* pc = c.data();
   const double ux = pb[0] - pa[0], uy = pb[1] - pa[1], uz = pb[2] - pa[2];
   const double vx = pc[0] - pa[0], vy = pc[1] - pa[1], vz = pc[2] - pa[2];
-  const double n[3] = {std::fabs(uy * vz - uz * vy), std::fabs(uz * vx - ux * vz),
-                       std::fabs(ux * vy - uy * vx)};
+  const double n[3] = {std::fabs(uy * vz - uz * vy), std::fabs(uz * vx - ux * vz), std::fabs(ux * vy - uy * vx)};
   int order[3] = {0, 1, 2};
   if (n[order[1]] > n[order[0]]) std::swap(order[0], order[1]);
   if (n[order[2]] > n[order[0]]) std::swap(order[0], order[2]);
@@ -62,9 +55,7 @@ int projection_axis(const Vec3& a, const Vec3& b, const Vec3& c) {
   return -1;
 }
 
-inline bool collinear(const Vec3& a, const Vec3& b, const Vec3& c) {
-  return projection_axis(a, b, c) < 0;
-}
+inline bool collinear(const Vec3& a, const Vec3& b, const Vec3& c) { return projection_axis(a, b, c) < 0; }
 
 inline bool lex_less(const Vec3& p, const Vec3& q) {
   for (int k = 0; k < 3; ++k)
@@ -133,8 +124,7 @@ bool segments_intersect_2d(const Point2& p, const Point2& q, const Point2& r, co
 
 // Segment [p, q] and non-degenerate triangle (a, b, c), all exactly in one plane on which projection
 // k is one-to-one.
-bool coplanar_segment_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
-                               const Vec3& c, int k) {
+bool coplanar_segment_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c, int k) {
   const Point2 p2 = project(k, p), q2 = project(k, q);
   const Point2 a2 = project(k, a), b2 = project(k, b), c2 = project(k, c);
   return point_in_triangle_2d(p2, a2, b2, c2) || point_in_triangle_2d(q2, a2, b2, c2) ||
@@ -143,8 +133,7 @@ bool coplanar_segment_triangle(const Vec3& p, const Vec3& q, const Vec3& a, cons
 }
 
 // Point x exactly in the plane of the non-degenerate triangle (a, b, c), projection k one-to-one there.
-inline bool coplanar_point_in_triangle(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c,
-                                       int k) {
+inline bool coplanar_point_in_triangle(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c, int k) {
   return point_in_triangle_2d(project(k, x), project(k, a), project(k, b), project(k, c));
 }
 
@@ -157,8 +146,8 @@ bool coplanar_triangles_intersect(const Vec3* const a[3], const Vec3* const b[3]
     pa[i] = project(k, *a[i]);
     pb[i] = project(k, *b[i]);
   }
-  int side_of_a[3][3];  // [edge i of a][vertex j of b]
-  int side_of_b[3][3];  // [edge j of b][vertex i of a]
+  int side_of_a[3][3]; // [edge i of a][vertex j of b]
+  int side_of_b[3][3]; // [edge j of b][vertex i of a]
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
       side_of_a[i][j] = orient2(pa[i], pa[(i + 1) % 3], pb[j]);
@@ -170,8 +159,7 @@ bool coplanar_triangles_intersect(const Vec3* const a[3], const Vec3* const b[3]
     if (!mixed(side_of_b[0][i], side_of_b[1][i], side_of_b[2][i])) return true;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      if (side_of_a[i][j] * side_of_a[i][(j + 1) % 3] < 0 &&
-          side_of_b[j][i] * side_of_b[j][(i + 1) % 3] < 0)
+      if (side_of_a[i][j] * side_of_a[i][(j + 1) % 3] < 0 && side_of_b[j][i] * side_of_b[j][(i + 1) % 3] < 0)
         return true;
   return false;
 }
@@ -211,8 +199,8 @@ bool point_in_triangle_3d(const Vec3& x, const Vec3& a, const Vec3& b, const Vec
 
 // Segment [p, q] and non-degenerate triangle (a, b, c) with projection axis k, given the sides
 // sp = orient3d(a, b, c, p) and sq = orient3d(a, b, c, q).
-bool segment_meets_proper_triangle(const Vec3& p, const Vec3& q, int sp, int sq, const Vec3& a,
-                                   const Vec3& b, const Vec3& c, int k) {
+bool segment_meets_proper_triangle(const Vec3& p, const Vec3& q, int sp, int sq, const Vec3& a, const Vec3& b,
+                                   const Vec3& c, int k) {
   if (sp == sq && sp != 0) return false;
   if (sp == 0 && sq == 0) return coplanar_segment_triangle(p, q, a, b, c, k);
   if (sp == 0) return coplanar_point_in_triangle(p, a, b, c, k);
@@ -269,11 +257,11 @@ bool crossing_triangles_intersect(const Vec3* const a[3], const Vec3* const b[3]
     }
     return edge_edge[i][j];
   };
-  int ka = -2, kb = -2;  // projection axes, computed on first use
+  int ka = -2, kb = -2; // projection axes, computed on first use
   auto axis_a = [&]() { return ka == -2 ? (ka = projection_axis(*a[0], *a[1], *a[2])) : ka; };
   auto axis_b = [&]() { return kb == -2 ? (kb = projection_axis(*b[0], *b[1], *b[2])) : kb; };
 
-  for (int i = 0; i < 3; ++i) {  // edges of a against triangle b
+  for (int i = 0; i < 3; ++i) { // edges of a against triangle b
     const int s = side_a[i], t = side_a[(i + 1) % 3];
     const Vec3& p = *a[i];
     const Vec3& q = *a[(i + 1) % 3];
@@ -286,7 +274,7 @@ bool crossing_triangles_intersect(const Vec3* const a[3], const Vec3* const b[3]
       return true;
     }
   }
-  for (int j = 0; j < 3; ++j) {  // edges of b against triangle a
+  for (int j = 0; j < 3; ++j) { // edges of b against triangle a
     const int s = side_b[j], t = side_b[(j + 1) % 3];
     const Vec3& p = *b[j];
     const Vec3& q = *b[(j + 1) % 3];
@@ -308,7 +296,7 @@ bool crossing_triangles_intersect(const Vec3* const a[3], const Vec3* const b[3]
 bool rays_overlap(const Vec3& v, const Vec3& s, const Vec3& t) {
   if (same_point(s, v) || same_point(t, v) || !collinear(v, s, t)) return false;
   int m = 0;
-  while (s[m] == v[m]) ++m;  // s != v; on the common line coordinate m is not constant
+  while (s[m] == v[m]) ++m; // s != v; on the common line coordinate m is not constant
   return (s[m] > v[m]) == (t[m] > v[m]);
 }
 
@@ -328,8 +316,7 @@ bool enters_triangle_beyond(const Vec3& v, const Vec3& s, const Vec3& t1, const 
 }
 
 // [s0, s1] and triangle (v, t1, t2) share a point other than v.
-bool meets_triangle_beyond(const Vec3& s0, const Vec3& s1, const Vec3& v, const Vec3& t1,
-                           const Vec3& t2) {
+bool meets_triangle_beyond(const Vec3& s0, const Vec3& s1, const Vec3& v, const Vec3& t1, const Vec3& t2) {
   if (!point_on_segment(v, s0, s1)) return segment_triangle(s0, s1, v, t1, t2);
   return enters_triangle_beyond(v, s0, t1, t2) || enters_triangle_beyond(v, s1, t1, t2);
 }
@@ -338,8 +325,8 @@ bool meets_triangle_beyond(const Vec3& s0, const Vec3& s1, const Vec3& v, const 
 // lies on a segment [v, z] with z on [a1, a2], z != v, and likewise for the second face; for a common x
 // both z lie on one ray from v and the nearer one is a common point on an opposite edge. So the faces
 // share a point other than v exactly when an opposite edge meets the other face away from v.
-bool vertex_neighbours_overlap(const Vec3& va, const Vec3& a1, const Vec3& a2, const Vec3& vb,
-                               const Vec3& b1, const Vec3& b2) {
+bool vertex_neighbours_overlap(const Vec3& va, const Vec3& a1, const Vec3& a2, const Vec3& vb, const Vec3& b1,
+                               const Vec3& b2) {
   return meets_triangle_beyond(a1, a2, vb, b1, b2) || meets_triangle_beyond(b1, b2, va, a1, a2);
 }
 
@@ -352,7 +339,7 @@ bool beyond(const Vec3& u, const Vec3& w, const Vec3& x) {
 
 // Faces (u, w, a) and (u, w, b) share a point off the segment [u, w].
 bool edge_neighbours_overlap(const Vec3& u, const Vec3& w, const Vec3& a, const Vec3& b) {
-  if (same_point(u, w)) return rays_overlap(u, a, b);  // the faces are the segments [u, a], [u, b]
+  if (same_point(u, w)) return rays_overlap(u, a, b); // the faces are the segments [u, a], [u, b]
   const int ka = projection_axis(u, w, a), kb = projection_axis(u, w, b);
   if (ka >= 0 && kb >= 0) {
     // A proper face meets the plane of the other, if different, only along the line uw, where both
@@ -362,8 +349,7 @@ bool edge_neighbours_overlap(const Vec3& u, const Vec3& w, const Vec3& a, const 
   }
   // A degenerate face lies on the line uw; a proper face meets that line only in [u, w]. Two
   // degenerate faces overlap beyond the edge when both reach past the same end.
-  if (ka < 0 && kb < 0)
-    return (beyond(u, w, a) && beyond(u, w, b)) || (beyond(w, u, a) && beyond(w, u, b));
+  if (ka < 0 && kb < 0) return (beyond(u, w, a) && beyond(u, w, b)) || (beyond(w, u, a) && beyond(w, u, b));
   return false;
 }
 
@@ -386,14 +372,12 @@ bool triangles_intersect(const Vec3& a0, const Vec3& a1, const Vec3& a2, const V
   const Vec3* const b[3] = {&b0, &b1, &b2};
   // All zeros: the triangles are coplanar, or one is degenerate (a degenerate triangle gives zero
   // orientations for every point and is never counted as a plane).
-  if ((side_b[0] == 0 && side_b[1] == 0 && side_b[2] == 0) ||
-      (side_a[0] == 0 && side_a[1] == 0 && side_a[2] == 0))
+  if ((side_b[0] == 0 && side_b[1] == 0 && side_b[2] == 0) || (side_a[0] == 0 && side_a[1] == 0 && side_a[2] == 0))
     return triangles_intersect_special(a, b);
   return crossing_triangles_intersect(a, b, side_a, side_b);
 }
 
-bool segment_intersects_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
-                                 const Vec3& c) {
+bool segment_intersects_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
   return segment_triangle(p, q, a, b, c);
 }
 
@@ -402,7 +386,7 @@ bool mesh_triangles_intersect(const std::array<Index, 3>& ta, const std::array<V
   std::array<Index, 3> sa = ta, sb = tb;
   std::sort(sa.begin(), sa.end());
   std::sort(sb.begin(), sb.end());
-  if (sa == sb) return true;  // duplicate face
+  if (sa == sb) return true; // duplicate face
 
   Index shared[3];
   int shared_count = 0;
@@ -413,15 +397,15 @@ bool mesh_triangles_intersect(const std::array<Index, 3>& ta, const std::array<V
   if (shared_count == 0) return triangles_intersect(pa[0], pa[1], pa[2], pb[0], pb[1], pb[2]);
   if (shared_count == 1) {
     const int ia = find_index(ta, shared[0]), ib = find_index(tb, shared[0]);
-    return vertex_neighbours_overlap(pa[ia], pa[(ia + 1) % 3], pa[(ia + 2) % 3], pb[ib],
-                                     pb[(ib + 1) % 3], pb[(ib + 2) % 3]);
+    return vertex_neighbours_overlap(pa[ia], pa[(ia + 1) % 3], pa[(ia + 2) % 3], pb[ib], pb[(ib + 1) % 3],
+                                     pb[(ib + 2) % 3]);
   }
   if (shared_count == 2) {
     const int iu = find_index(ta, shared[0]), iw = find_index(ta, shared[1]);
     const int ib_u = find_index(tb, shared[0]), ib_w = find_index(tb, shared[1]);
     return edge_neighbours_overlap(pa[iu], pa[iw], pa[3 - iu - iw], pb[3 - ib_u - ib_w]);
   }
-  return true;  // three distinct shared indices make equal triples, handled above
+  return true; // three distinct shared indices make equal triples, handled above
 }
 
 } // namespace st

@@ -30,8 +30,7 @@ bool ray_hits_box(const BoundingBox& b, const Vec3& o, const Vec3& inv_dir, doub
 
 } // namespace
 
-AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces)
-    : mesh_(mesh), faces_(std::move(faces)) {
+AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces) : mesh_(mesh), faces_(std::move(faces)) {
   if (faces_.empty()) {
     faces_.resize(mesh.face_count());
     std::iota(faces_.begin(), faces_.end(), Index{0});
@@ -90,8 +89,8 @@ std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_di
     if (n.left == kInvalidIndex) {
       for (Index i = n.begin; i < n.end; ++i) {
         const Triangle& t = mesh_.triangles[faces_[i]];
-        const Vec3 q = closest_point_on_triangle(p, mesh_.positions[t[0]], mesh_.positions[t[1]],
-                                                 mesh_.positions[t[2]]);
+        const Vec3 q =
+            closest_point_on_triangle(p, mesh_.positions[t[0]], mesh_.positions[t[1]], mesh_.positions[t[2]]);
         const double d2 = (q - p).squaredNorm();
         if (d2 <= best) {
           best = d2;
@@ -117,8 +116,7 @@ std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_di
   return result;
 }
 
-std::optional<RayHit> AabbTree::first_hit(const Vec3& origin, const Vec3& direction, double t_min,
-                                          double t_max) const {
+std::optional<RayHit> AabbTree::first_hit(const Vec3& origin, const Vec3& direction, double t_min, double t_max) const {
   if (nodes_.empty()) return std::nullopt;
   const Vec3 inv = direction.cwiseInverse();
   RayHit hit;
@@ -132,8 +130,8 @@ std::optional<RayHit> AabbTree::first_hit(const Vec3& origin, const Vec3& direct
     if (n.left == kInvalidIndex) {
       for (Index i = n.begin; i < n.end; ++i) {
         const Triangle& t = mesh_.triangles[faces_[i]];
-        const auto s = ray_triangle(origin, direction, mesh_.positions[t[0]], mesh_.positions[t[1]],
-                                    mesh_.positions[t[2]]);
+        const auto s =
+            ray_triangle(origin, direction, mesh_.positions[t[0]], mesh_.positions[t[1]], mesh_.positions[t[2]]);
         if (s && s->t >= t_min && s->t <= t_max) {
           t_max = s->t;
           hit.face = faces_[i];
@@ -220,8 +218,7 @@ void AabbTree::cross_pairs(Index a, const AabbTree& other, Index b,
   }
 }
 
-void AabbTree::for_each_overlapping_pair(const AabbTree& other,
-                                         const std::function<void(Index, Index)>& visit) const {
+void AabbTree::for_each_overlapping_pair(const AabbTree& other, const std::function<void(Index, Index)>& visit) const {
   if (!nodes_.empty() && !other.nodes_.empty()) cross_pairs(0, other, 0, visit);
 }
 

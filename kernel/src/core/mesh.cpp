@@ -48,8 +48,7 @@ double mean_edge_length(const TriangleMesh& mesh) {
   if (mesh.empty()) return 0.0;
   double sum = 0.0;
   for (const Triangle& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k)
-      sum += (mesh.positions[t[(k + 1) % 3]] - mesh.positions[t[k]]).norm();
+    for (int k = 0; k < 3; ++k) sum += (mesh.positions[t[(k + 1) % 3]] - mesh.positions[t[k]]).norm();
   return sum / (3.0 * static_cast<double>(mesh.triangles.size()));
 }
 
@@ -66,8 +65,7 @@ std::vector<Vec3> vertex_normals(const TriangleMesh& mesh) {
   return normals;
 }
 
-TriangleMesh submesh(const TriangleMesh& mesh, const std::vector<Index>& faces,
-                     std::vector<Index>* vertex_map) {
+TriangleMesh submesh(const TriangleMesh& mesh, const std::vector<Index>& faces, std::vector<Index>* vertex_map) {
   TriangleMesh out;
   std::unordered_map<Index, Index> remap;
   remap.reserve(faces.size());
@@ -97,9 +95,8 @@ void check_mesh(const TriangleMesh& mesh, const std::string& what) {
   for (Index f = 0; f < mesh.face_count(); ++f)
     for (Index v : mesh.triangles[f])
       if (v >= mesh.vertex_count())
-        throw InvalidInput(what + ": triangle " + std::to_string(f) + " refers to vertex " +
-                           std::to_string(v) + " but there are only " +
-                           std::to_string(mesh.vertex_count()) + " vertices");
+        throw InvalidInput(what + ": triangle " + std::to_string(f) + " refers to vertex " + std::to_string(v) +
+                           " but there are only " + std::to_string(mesh.vertex_count()) + " vertices");
 }
 
 } // namespace st

@@ -81,7 +81,7 @@ inline void two_product(double a, double b, double& x, double& y) {
 }
 #else
 inline void split(double a, double& hi, double& lo) {
-  const double c = 134217729.0 * a;  // 2^27 + 1
+  const double c = 134217729.0 * a; // 2^27 + 1
   const double big = c - a;
   hi = c - big;
   lo = a - hi;
@@ -154,7 +154,7 @@ int scale_expansion(int elen, const double* e, double b, double* h) {
   return hn;
 }
 
-constexpr int kMaxFactor = 16;  // longest e passed to product_expansion
+constexpr int kMaxFactor = 16; // longest e passed to product_expansion
 
 // h = e * f for f of length <= 2 (a difference). h holds 4 * elen components.
 int product_expansion(int elen, const double* e, int flen, const double* f, double* h) {
@@ -167,8 +167,8 @@ int product_expansion(int elen, const double* e, int flen, const double* f, doub
 }
 
 // h = e1 * f1 - e2 * f2 for expansions of length <= 2. h holds 16 components.
-int cross_difference(int e1n, const double* e1, int f1n, const double* f1, int e2n, const double* e2,
-                     int f2n, const double* f2, double* h) {
+int cross_difference(int e1n, const double* e1, int f1n, const double* f1, int e2n, const double* e2, int f2n,
+                     const double* f2, double* h) {
   double left[8], right[8];
   const int ln = product_expansion(e1n, e1, f1n, f1, left);
   const int rn = product_expansion(e2n, e2, f2n, f2, right);
@@ -185,7 +185,7 @@ inline int expansion_sign(int n, const double* e) {
 
 struct BigInt {
   int sign = 0;                     // -1, 0, +1
-  std::vector<std::uint32_t> limbs;  // magnitude, little endian, no leading zero limbs
+  std::vector<std::uint32_t> limbs; // magnitude, little endian, no leading zero limbs
 };
 
 void trim(std::vector<std::uint32_t>& v) {
@@ -199,8 +199,7 @@ int compare_magnitude(const std::vector<std::uint32_t>& a, const std::vector<std
   return 0;
 }
 
-std::vector<std::uint32_t> add_magnitude(const std::vector<std::uint32_t>& a,
-                                         const std::vector<std::uint32_t>& b) {
+std::vector<std::uint32_t> add_magnitude(const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {
   std::vector<std::uint32_t> r(std::max(a.size(), b.size()) + 1, 0);
   std::uint64_t carry = 0;
   for (std::size_t i = 0; i + 1 < r.size(); ++i) {
@@ -334,8 +333,8 @@ int orient3d_bigint(const double* p) {
 // binary orders for that goes to the big integers.
 
 struct BitRange {
-  int top;     // exponent of the highest set bit of a nonzero double
-  int bottom;  // exponent of its lowest set bit
+  int top;    // exponent of the highest set bit of a nonzero double
+  int bottom; // exponent of its lowest set bit
 };
 
 inline BitRange bit_range(double x) {
@@ -417,18 +416,14 @@ int orient2d_adaptive(const double* p) {
 
 int orient2d_exact(const double* a, const double* b, const double* c) {
   // Repeated points, or all on an axis-parallel line.
-  if ((a[0] == b[0] && a[1] == b[1]) || (a[0] == c[0] && a[1] == c[1]) || (b[0] == c[0] && b[1] == c[1]))
-    return 0;
+  if ((a[0] == b[0] && a[1] == b[1]) || (a[0] == c[0] && a[1] == c[1]) || (b[0] == c[0] && b[1] == c[1])) return 0;
   if ((a[0] == b[0] && a[0] == c[0]) || (a[1] == b[1] && a[1] == c[1])) return 0;
   double p[6] = {a[0], a[1], b[0], b[1], c[0], c[1]};
   switch (prepare(p, 6, -450, 500)) {
   case Route::kZero:
-  case Route::kNonFinite:
-    return 0;
-  case Route::kBigInt:
-    return orient2d_bigint(p);
-  case Route::kExpansion:
-    break;
+  case Route::kNonFinite: return 0;
+  case Route::kBigInt: return orient2d_bigint(p);
+  case Route::kExpansion: break;
   }
   return orient2d_adaptive(p);
 }
@@ -493,17 +488,15 @@ int orient3d_adaptive(const double* p) {
                            (std::fabs(cdxady) + std::fabs(adxcdy)) * std::fabs(bdz) +
                            (std::fabs(adxbdy) + std::fabs(bdxady)) * std::fabs(cdz);
   if (std::fabs(det) > kErrBound3B * permanent) return sign_of(det);
-  if (adxtail == 0.0 && bdxtail == 0.0 && cdxtail == 0.0 && adytail == 0.0 && bdytail == 0.0 &&
-      cdytail == 0.0 && adztail == 0.0 && bdztail == 0.0 && cdztail == 0.0)
-    return expansion_sign(finn, fin);  // the differences were exact, so is fin
+  if (adxtail == 0.0 && bdxtail == 0.0 && cdxtail == 0.0 && adytail == 0.0 && bdytail == 0.0 && cdytail == 0.0 &&
+      adztail == 0.0 && bdztail == 0.0 && cdztail == 0.0)
+    return expansion_sign(finn, fin); // the differences were exact, so is fin
 
   const double errbound = kErrBound3C * permanent + kResultErrBound * std::fabs(det);
-  det += (adz * ((bdx * cdytail + cdy * bdxtail) - (bdy * cdxtail + cdx * bdytail)) +
-          adztail * (bdx * cdy - bdy * cdx)) +
-         (bdz * ((cdx * adytail + ady * cdxtail) - (cdy * adxtail + adx * cdytail)) +
-          bdztail * (cdx * ady - cdy * adx)) +
-         (cdz * ((adx * bdytail + bdy * adxtail) - (ady * bdxtail + bdx * adytail)) +
-          cdztail * (adx * bdy - ady * bdx));
+  det +=
+      (adz * ((bdx * cdytail + cdy * bdxtail) - (bdy * cdxtail + cdx * bdytail)) + adztail * (bdx * cdy - bdy * cdx)) +
+      (bdz * ((cdx * adytail + ady * cdxtail) - (cdy * adxtail + adx * cdytail)) + bdztail * (cdx * ady - cdy * adx)) +
+      (cdz * ((adx * bdytail + bdy * adxtail) - (ady * bdxtail + bdx * adytail)) + cdztail * (adx * bdy - ady * bdx));
   if (std::fabs(det) > errbound) return sign_of(det);
   return orient3d_expansion(p);
 }
@@ -518,12 +511,9 @@ int orient3d_exact(const double* a, const double* b, const double* c, const doub
   double p[12] = {a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2], d[0], d[1], d[2]};
   switch (prepare(p, 12, -300, 330)) {
   case Route::kZero:
-  case Route::kNonFinite:
-    return 0;
-  case Route::kBigInt:
-    return orient3d_bigint(p);
-  case Route::kExpansion:
-    break;
+  case Route::kNonFinite: return 0;
+  case Route::kBigInt: return orient3d_bigint(p);
+  case Route::kExpansion: break;
   }
   return orient3d_adaptive(p);
 }

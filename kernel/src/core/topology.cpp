@@ -48,8 +48,7 @@ std::vector<Index> MeshTopology::all_opposites() const {
   return opp;
 }
 
-std::vector<std::vector<Index>> border_loops(const TriangleMesh& mesh,
-                                             const std::vector<Index>& opposites) {
+std::vector<std::vector<Index>> border_loops(const TriangleMesh& mesh, const std::vector<Index>& opposites) {
   // Outgoing border half-edge per vertex.
   std::vector<Index> outgoing(mesh.vertex_count(), kInvalidIndex);
   for (Index h = 0; h < opposites.size(); ++h) {
@@ -57,9 +56,9 @@ std::vector<std::vector<Index>> border_loops(const TriangleMesh& mesh,
     const Index v = mesh.triangles[h / 3][h % 3];
     if (outgoing[v] != kInvalidIndex) {
       const Vec3& p = mesh.positions[v];
-      throw GeometryError("mesh border is not simple at vertex " + std::to_string(v) + " (" +
-                          detail::number(p.x()) + ", " + detail::number(p.y()) + ", " +
-                          detail::number(p.z()) + "): two border fans meet there");
+      throw GeometryError("mesh border is not simple at vertex " + std::to_string(v) + " (" + detail::number(p.x()) +
+                          ", " + detail::number(p.y()) + ", " + detail::number(p.z()) +
+                          "): two border fans meet there");
     }
     outgoing[v] = h;
   }

@@ -74,7 +74,8 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
   }
   if (cut_faces.empty())
     throw GeometryError("the boundary curve crosses every mesh edge an even number of times: it encloses "
-                        "no region (near " + where(curve.polyline.front()) + ")");
+                        "no region (near " +
+                        where(curve.polyline.front()) + ")");
 
   auto is_cut_edge = [&](Index h) {
     const auto it = cuts.find(edge_key(topology.from_vertex(h), topology.to_vertex(h)));
@@ -82,7 +83,7 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
   };
 
   // 2. Flood both sides from the cut faces, the side with less area first; the first to close wins.
-  std::deque<Index> queue[2]; // [0]: left, [1]: right
+  std::deque<Index> queue[2];    // [0]: left, [1]: right
   std::vector<Index> flooded[2]; // whole faces taken by each side
   double area[2] = {0.0, 0.0};
   std::size_t border_edges[2] = {0, 0};
@@ -135,8 +136,8 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
     double best = std::numeric_limits<double>::infinity();
     for (Index f : curve.local_faces) {
       const Triangle& t = mesh.triangles[f];
-      const Vec3 c = closest_point_on_triangle(*options.inside, mesh.positions[t[0]], mesh.positions[t[1]],
-                                               mesh.positions[t[2]]);
+      const Vec3 c =
+          closest_point_on_triangle(*options.inside, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
       const double d = (c - *options.inside).squaredNorm();
       if (d < best) {
         best = d;
@@ -178,8 +179,7 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
   if (options.require_closed_region && border_edges[q(keep)] > 0)
     throw GeometryError("the region inside the boundary contains a hole or an open edge of the mesh (" +
                         std::to_string(border_edges[q(keep)]) + " border edges, e.g. near " +
-                        where(border_at[q(keep)]) +
-                        "): move the boundary around it or repair the mesh");
+                        where(border_at[q(keep)]) + "): move the boundary around it or repair the mesh");
 
   // 3. Assemble the region: whole faces of the kept side plus the kept parts of the cut faces.
   CutResult result;
@@ -261,8 +261,8 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
     for (std::size_t i = 0; i < loops.size(); ++i)
       if (static_cast<int>(i) != rim)
         throw GeometryError("the region inside the boundary has an extra border (a hole or a non-manifold "
-                            "edge of the mesh) near " + where(pos[loops[i][0]]) +
-                            ": move the boundary around it or repair the mesh");
+                            "edge of the mesh) near " +
+                            where(pos[loops[i][0]]) + ": move the boundary around it or repair the mesh");
   }
   result.rim = loops[static_cast<std::size_t>(rim)];
   return result;

@@ -101,7 +101,8 @@ public:
     last_ = 0;
   }
   void push(double key, const QueueEntry& e) {
-    const std::size_t b = key > 0.0 ? std::min<std::size_t>(std::bit_cast<std::uint64_t>(key) >> kShift, kBuckets - 1) : 0;
+    const std::size_t b =
+        key > 0.0 ? std::min<std::size_t>(std::bit_cast<std::uint64_t>(key) >> kShift, kBuckets - 1) : 0;
     buckets_[b].push_back(e);
     first_ = std::min(first_, b);
     last_ = std::max(last_, b);
@@ -134,9 +135,7 @@ double quality(const Vec3& a, const Vec3& b, const Vec3& c, Vec3* normal) {
   return sum > 0.0 ? 2.0 * std::numbers::sqrt3 * normal->norm() / sum : 0.0;
 }
 
-bool same_position(const Vec3& a, const Vec3& b) {
-  return a.x() == b.x() && a.y() == b.y() && a.z() == b.z();
-}
+bool same_position(const Vec3& a, const Vec3& b) { return a.x() == b.x() && a.y() == b.y() && a.z() == b.z(); }
 
 class Decimator {
 public:
@@ -163,21 +162,21 @@ private:
   const DecimateOptions& options_;
   Vec3 origin_;
   double cos_max_turn_;
-  double max_edge_;                 // longest edge a collapse may create (infinite: no limit)
+  double max_edge_; // longest edge a collapse may create (infinite: no limit)
 
   std::vector<Vec3> pos_;
-  std::vector<Index> corner_;       // vertex of corner / half-edge h = 3f + k
-  std::vector<Index> opp_;          // opposite half-edge or kInvalidIndex
+  std::vector<Index> corner_; // vertex of corner / half-edge h = 3f + k
+  std::vector<Index> opp_;    // opposite half-edge or kInvalidIndex
   std::vector<char> face_alive_;
-  std::vector<Index> out_;          // per vertex: outgoing half-edge starting its fan (border one)
-  std::vector<char> locked_;        // not a manifold vertex of the input: never touched
-  std::vector<char> border_;        // out_ is a border half-edge
+  std::vector<Index> out_;   // per vertex: outgoing half-edge starting its fan (border one)
+  std::vector<char> locked_; // not a manifold vertex of the input: never touched
+  std::vector<char> border_; // out_ is a border half-edge
   std::vector<char> vertex_alive_;
   std::vector<char> moved_;
-  std::vector<Index> source_face_;  // input triangle index of each face
+  std::vector<Index> source_face_; // input triangle index of each face
   std::vector<Quadric> quadric_;
-  std::vector<Vec3> normal_sum_;    // sum of area vectors of the input triangles of the region
-  std::vector<Plane> planes_;       // per face
+  std::vector<Vec3> normal_sum_; // sum of area vectors of the input triangles of the region
+  std::vector<Plane> planes_;    // per face
   std::vector<Index> region_head_, region_tail_, region_next_; // lists of corners per vertex
   std::vector<std::uint32_t> stamp_;
   std::uint32_t stamp_counter_ = 0;
@@ -189,8 +188,7 @@ private:
   std::size_t alive_faces_ = 0;
 };
 
-Decimator::Decimator(const TriangleMesh& mesh, const DecimateOptions& options)
-    : options_(options) {
+Decimator::Decimator(const TriangleMesh& mesh, const DecimateOptions& options) : options_(options) {
   origin_ = bounding_box(mesh).center();
   if (!origin_.allFinite()) origin_ = Vec3::Zero();
   cos_max_turn_ = std::cos(options.max_normal_change_deg * std::numbers::pi / 180.0);
@@ -321,8 +319,7 @@ void Decimator::normalise_start(Index v, Index h) {
 bool Decimator::plan(Index h, Candidate& c) const {
   const Index a = from(h), b = to(h);
   const double len2 = (pos_[b] - pos_[a]).squaredNorm();
-  if (options_.target_edge_length > 0.0 &&
-      len2 > options_.target_edge_length * options_.target_edge_length)
+  if (options_.target_edge_length > 0.0 && len2 > options_.target_edge_length * options_.target_edge_length)
     return false;
   if (locked_[a] || locked_[b]) return false;
   const bool pin_a = is_pinned(a), pin_b = is_pinned(b);
@@ -391,8 +388,7 @@ bool Decimator::collapse_allowed(const Candidate& c) {
   if (o != kInvalidIndex) {
     apex1 = corner_[prev_halfedge(o)];
     if (locked_[apex1]) return false;
-    if (opp_[next_halfedge(o)] == kInvalidIndex && opp_[prev_halfedge(o)] == kInvalidIndex)
-      return false;
+    if (opp_[next_halfedge(o)] == kInvalidIndex && opp_[prev_halfedge(o)] == kInvalidIndex) return false;
   }
   collect_fan(c.removed, fan_removed_);
   collect_fan(c.kept, fan_kept_);
@@ -440,8 +436,7 @@ bool Decimator::collapse_allowed(const Candidate& c) {
     const double q_after = quality(after[0], after[1], after[2], &n_after);
     worst_after = std::min(worst_after, q_after);
     if (!(q_after >= kDegenerateQuality)) return false;
-    if (q_before >= kTrustQuality &&
-        n_after.dot(n_before) < cos_max_turn_ * n_after.norm() * n_before.norm())
+    if (q_before >= kTrustQuality && n_after.dot(n_before) < cos_max_turn_ * n_after.norm() * n_before.norm())
       return false;
     Vec3 reference = normal_sum_[c.removed] + normal_sum_[c.kept];
     for (int k = 0; k < 3; ++k)

@@ -11,8 +11,7 @@ namespace {
 
 // Shortest strip between open sequences P[0..m] and Q[0..n] (P[m] == P[0], Q[n] == Q[0] of the
 // closed loops, rotated so Q starts at `q_start`). Returns the cost and fills `moves` (true: advance P).
-double strip(const std::vector<Vec3>& p, const std::vector<Vec3>& q, std::size_t q_start,
-             std::vector<char>& moves) {
+double strip(const std::vector<Vec3>& p, const std::vector<Vec3>& q, std::size_t q_start, std::vector<char>& moves) {
   const std::size_t m = p.size(), n = q.size();
   auto P = [&](std::size_t i) -> const Vec3& { return p[i % m]; };
   auto Q = [&](std::size_t j) -> const Vec3& { return q[(j + q_start) % n]; };
@@ -31,7 +30,7 @@ double strip(const std::vector<Vec3>& p, const std::vector<Vec3>& q, std::size_t
     from_p[i * cols] = 1;
     for (std::size_t j = 1; j <= n; ++j) {
       const double span = (pi - Q(j)).norm();
-      const double up = dist[j];      // (i-1, j)
+      const double up = dist[j];       // (i-1, j)
       const double left = dist[j - 1]; // (i, j-1)
       if (up <= left) {
         dist[j] = up + span;
@@ -56,8 +55,8 @@ double strip(const std::vector<Vec3>& p, const std::vector<Vec3>& q, std::size_t
 
 } // namespace
 
-RuledResult ruled_surface(const std::vector<Vec3>& p, const std::vector<Vec3>& q, Index p_offset,
-                          Index q_offset, const RuledOptions& options) {
+RuledResult ruled_surface(const std::vector<Vec3>& p, const std::vector<Vec3>& q, Index p_offset, Index q_offset,
+                          const RuledOptions& options) {
   const std::size_t m = p.size(), n = q.size();
   if (m < 2 || n < 2)
     throw InvalidInput("ruled surface: each loop needs at least 2 points (got " + std::to_string(m) + " and " +
@@ -82,8 +81,8 @@ RuledResult ruled_surface(const std::vector<Vec3>& p, const std::vector<Vec3>& q
   std::size_t best_start = best_j;
   for (int c = 0; c < k; ++c) {
     const long offset = (c % 2 == 0 ? 1 : -1) * static_cast<long>((c + 1) / 2);
-    const std::size_t start = static_cast<std::size_t>((static_cast<long>(best_j) + offset % static_cast<long>(n) +
-                                                        static_cast<long>(n)) % static_cast<long>(n));
+    const std::size_t start = static_cast<std::size_t>(
+        (static_cast<long>(best_j) + offset % static_cast<long>(n) + static_cast<long>(n)) % static_cast<long>(n));
     const double cost = strip(p, q, start, moves);
     if (cost < best_cost) {
       best_cost = cost;

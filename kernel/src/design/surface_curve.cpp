@@ -121,9 +121,10 @@ public:
       if (progress > target + 2.0 * longest || progress < -2.0 * longest) return false;
       const Index o = topo_.opposite(exit);
       if (o == kInvalidIndex)
-        throw GeometryError(name_ + ": the curve runs into an open border or a non-manifold edge of the "
-                            "mesh near " + where(exit_x) +
-                            ": move the control points away from holes and the mesh's edge");
+        throw GeometryError(name_ +
+                            ": the curve runs into an open border or a non-manifold edge of the "
+                            "mesh near " +
+                            where(exit_x) + ": move the control points away from holes and the mesh's edge");
       out.push_back({exit, exit_t});
       points.push_back(exit_x);
       f = o / 3;
@@ -132,8 +133,8 @@ public:
     return false;
   }
 
-  void trace(const Vec3& a, Index fa, const Vec3& b, Index fb, int depth,
-             std::vector<EdgeCrossing>& out, std::vector<Vec3>& points) const {
+  void trace(const Vec3& a, Index fa, const Vec3& b, Index fb, int depth, std::vector<EdgeCrossing>& out,
+             std::vector<Vec3>& points) const {
     std::vector<EdgeCrossing> c;
     std::vector<Vec3> p;
     if (walk(a, fa, b, fb, c, p)) {
@@ -185,8 +186,8 @@ bool segments_cross_2d(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1, con
 
 // The curve inside each face is a set of segments; two non-consecutive ones crossing means the
 // curve crosses itself.
-void check_self_crossing(const TriangleMesh& mesh, const SurfaceCurve& curve,
-                         const std::vector<Index>& point_faces, const CurveOptions& options) {
+void check_self_crossing(const TriangleMesh& mesh, const SurfaceCurve& curve, const std::vector<Index>& point_faces,
+                         const CurveOptions& options) {
   const std::size_t n = curve.polyline.size();
   std::vector<std::pair<Index, Index>> by_face; // (face, segment index)
   by_face.reserve(n);
@@ -207,7 +208,7 @@ void check_self_crossing(const TriangleMesh& mesh, const SurfaceCurve& curve,
           if ((si + 1) % n == sj || (sj + 1) % n == si) continue;
           if (segments_cross_2d(p2(si), p2(si + 1), p2(sj), p2(sj + 1)))
             throw CurveCrossesItself(options.name + ": the curve crosses itself near " + where(curve.polyline[si]) +
-                                (options.name == "boundary" ? ": reorder or move the control points" : ""));
+                                     (options.name == "boundary" ? ": reorder or move the control points" : ""));
         }
     }
     lo = hi;
@@ -216,15 +217,14 @@ void check_self_crossing(const TriangleMesh& mesh, const SurfaceCurve& curve,
 
 // Joins the curve's samples by walks over the surface: fills crossings, polyline and length, and
 // checks that the curve does not cross itself.
-void join_samples(const MeshTopology& topology, const CurveOptions& options,
-                  SurfaceCurve& curve) {
+void join_samples(const MeshTopology& topology, const CurveOptions& options, SurfaceCurve& curve) {
   const TriangleMesh& mesh = topology.mesh();
   // 4. Walk the surface between consecutive samples. The walk gives a sequence of events: points
   //    inside faces (samples, subdivision points) and edge crossings.
   struct Event {
     Vec3 point;
-    Index face;                       // the face the curve is in after this event
-    Index halfedge = kInvalidIndex;   // crossings only
+    Index face;                     // the face the curve is in after this event
+    Index halfedge = kInvalidIndex; // crossings only
     double t = 0.0;
   };
   const CurveTracer tracer(topology, options.name);
@@ -297,8 +297,7 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
                                  const CurveOptions& options) {
   const TriangleMesh& mesh = topology.mesh();
   const std::size_t n = control_points.size();
-  if (n < 3)
-    throw InvalidInput(options.name + ": needs at least 3 control points, got " + std::to_string(n));
+  if (n < 3) throw InvalidInput(options.name + ": needs at least 3 control points, got " + std::to_string(n));
   for (std::size_t i = 0; i < n; ++i) {
     if (!control_points[i].allFinite())
       throw InvalidInput(options.name + ": control point " + std::to_string(i) + " has a non-finite coordinate");
@@ -306,8 +305,7 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
       throw InvalidInput(options.name + ": control points " + std::to_string(i) + " and " +
                          std::to_string((i + 1) % n) + " coincide at " + where(control_points[i]));
   }
-  if (!(options.max_snap_distance > 0.0))
-    throw InvalidInput(options.name + ": max_snap_distance must be > 0");
+  if (!(options.max_snap_distance > 0.0)) throw InvalidInput(options.name + ": max_snap_distance must be > 0");
   if (mesh.empty()) throw InvalidInput(options.name + ": the mesh has no triangles");
 
   // 1. The faces within the snap distance of each control point (and of the extra point): one pass
@@ -329,7 +327,8 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
     if (!b.overlaps(all)) continue;
     for (std::size_t i = 0; i < centres.size(); ++i) {
       if (!b.inflated(radii[i]).contains(centres[i])) continue;
-      const Vec3 q = closest_point_on_triangle(centres[i], mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+      const Vec3 q =
+          closest_point_on_triangle(centres[i], mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
       const double d = (q - centres[i]).norm();
       if (d <= radii[i]) near[i].emplace_back(d, f);
     }

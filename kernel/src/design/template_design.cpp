@@ -23,9 +23,7 @@ namespace st {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 void check_options(const TemplateOptions& o) {
   auto finite_positive = [](double v) { return std::isfinite(v) && v > 0.0; };
@@ -218,8 +216,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   // A point on the outer sheet above the middle of the inner surface tells the sides apart.
   const auto above = offset_tree.first_hit(centre_point, normals[centre], 0.0, 3.0 * T);
   if (!above)
-    throw GeometryError("the offset surface is missing above the inner surface near " +
-                        detail::where(centre_point));
+    throw GeometryError("the offset surface is missing above the inner surface near " + detail::where(centre_point));
   result.times.outer_points = seconds_since(t0);
 
   // 4. Outer surface: the offset cut along those points, keeping the side above the inner surface.
@@ -321,8 +318,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
       outer->region = std::move(contoured_outer);
       result.solid = check_solid(result.shell);
     }
-    if (!result.solid.valid())
-      throw GeometryError("the template shell failed its check: " + result.solid.summary());
+    if (!result.solid.valid()) throw GeometryError("the template shell failed its check: " + result.solid.summary());
   }
   if (options.check) result.times.validation = seconds_since(t0);
   result.body_inner_faces = inner.region.face_count();

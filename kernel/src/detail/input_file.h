@@ -15,8 +15,7 @@
 namespace st::detail {
 
 /// The file's size in bytes. Throws InvalidInput "<path>: cannot open the <what>: ..." naming why.
-inline std::uintmax_t check_input_file(const std::string& path, const std::string& what,
-                                       std::uintmax_t max_bytes) {
+inline std::uintmax_t check_input_file(const std::string& path, const std::string& what, std::uintmax_t max_bytes) {
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
@@ -25,11 +24,11 @@ inline std::uintmax_t check_input_file(const std::string& path, const std::strin
     throw InvalidInput(prefix + (ec ? ec.message() : std::string("No such file or directory")));
   if (fs::is_directory(status)) throw InvalidInput(prefix + "it is a directory");
   if (!fs::is_regular_file(status)) {
-    const char* kind = fs::is_fifo(status)                ? "a FIFO (named pipe)"
-                       : fs::is_character_file(status)    ? "a character device"
-                       : fs::is_block_file(status)        ? "a block device"
-                       : fs::is_socket(status)            ? "a socket"
-                                                          : "not a regular file";
+    const char* kind = fs::is_fifo(status)             ? "a FIFO (named pipe)"
+                       : fs::is_character_file(status) ? "a character device"
+                       : fs::is_block_file(status)     ? "a block device"
+                       : fs::is_socket(status)         ? "a socket"
+                                                       : "not a regular file";
     throw InvalidInput(prefix + "it is " + kind + ", not a regular file");
   }
   const std::uintmax_t size = fs::file_size(path, ec);

@@ -11,15 +11,12 @@
 namespace st::detail {
 
 /// Threads a parallel loop uses: the machine's, at most 8.
-inline unsigned thread_count() {
-  return std::clamp(std::thread::hardware_concurrency(), 1u, 8u);
-}
+inline unsigned thread_count() { return std::clamp(std::thread::hardware_concurrency(), 1u, 8u); }
 
 /// Runs work(worker, begin, end) over [0, n) in chunks of `grain` items (always the same chunks,
 /// whatever the number of threads, so results gathered per chunk do not depend on it), handed out in
 /// order to up to thread_count() threads; worker < thread_count() names the thread (for scratch).
-template <class Work>
-void parallel_for(std::size_t n, std::size_t grain, const Work& work) {
+template <class Work> void parallel_for(std::size_t n, std::size_t grain, const Work& work) {
   const std::size_t chunks = (n + grain - 1) / grain;
   const std::size_t threads = std::min<std::size_t>(thread_count(), chunks);
   std::atomic<std::size_t> next{0};

@@ -20,13 +20,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // Faces of `mesh` whose box meets the box around the tube's axis between heights z0 and z1.
-std::vector<Index> faces_around(const TriangleMesh& mesh, const TubeSpec& tube, double radius, double z0,
-                                double z1) {
+std::vector<Index> faces_around(const TriangleMesh& mesh, const TubeSpec& tube, double radius, double z0, double z1) {
   BoundingBox box;
   box.extend(tube_point(tube, z0));
   box.extend(tube_point(tube, z1));
@@ -119,8 +116,8 @@ TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const Guide
   p.column_bottom = column;
   // No column when the sleeve's top is below the template's middle all around (or the sleeve lies
   // wholly between the template's surfaces): the template body is the sleeve's material there.
-  p.sleeve_inside_template = column >= p.sleeve_top - 1e-6 ||
-                             (all_hit && p.sleeve_top < *lowest_top && p.sleeve_bottom > *highest_bottom);
+  p.sleeve_inside_template =
+      column >= p.sleeve_top - 1e-6 || (all_hit && p.sleeve_top < *lowest_top && p.sleeve_bottom > *highest_bottom);
   p.bore_top = std::max(p.sleeve_top, p.template_top) + options.bore_margin;
   p.bore_bottom = bore.value_or(p.template_bottom) - options.bore_margin;
   return p;
@@ -241,8 +238,9 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
       if (!hit) return 0.0;
       return std::max(0.0, (start - hit->t) + options.clearance + p.foot_lift - p.column_bottom);
     };
-    TriangleMesh column = rounded(footed_cylinder_mesh(
-        tube_cylinder(tubes[i], tubes[i].outer_radius, p.column_bottom, p.sleeve_top), options.chordal_tolerance, foot));
+    TriangleMesh column =
+        rounded(footed_cylinder_mesh(tube_cylinder(tubes[i], tubes[i].outer_radius, p.column_bottom, p.sleeve_top),
+                                     options.chordal_tolerance, foot));
     seat_column(column, tubes[i], options.chordal_tolerance, bone_tree);
     unite(columns, column);
   }

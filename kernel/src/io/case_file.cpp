@@ -46,8 +46,7 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
   auto resolve = [&](const std::string& p) { return (folder / p).lexically_normal().string(); };
 
   const std::string format = r.string(r.required(doc, "format", "format"), "format");
-  if (format != kCaseFormat)
-    r.fail("format", "must be \"" + std::string(kCaseFormat) + "\", got \"" + format + "\"");
+  if (format != kCaseFormat) r.fail("format", "must be \"" + std::string(kCaseFormat) + "\", got \"" + format + "\"");
   r.unknown_keys(doc, {"format", "name", "bone", "boundary", "template", "tubes", "output"}, "", c.warnings);
 
   c.name = doc.contains("name") ? r.string(doc["name"], "name") : fs::path(path).stem().string();
@@ -68,8 +67,7 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
   } else {
     const json& points = r.required(boundary, "points", "boundary.points");
     if (!points.is_array()) r.fail("boundary.points", "must be an array of [x, y, z] points");
-    if (points.size() < 3)
-      r.fail("boundary.points", "needs at least 3 points, got " + std::to_string(points.size()));
+    if (points.size() < 3) r.fail("boundary.points", "needs at least 3 points, got " + std::to_string(points.size()));
     for (std::size_t i = 0; i < points.size(); ++i)
       c.boundary_points.push_back(r.point(points[i], "boundary.points[" + std::to_string(i) + "]"));
   }
@@ -104,9 +102,9 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
       const std::string key = "tubes[" + std::to_string(i) + "]";
       const json& t = tubes[i];
       if (!t.is_object()) r.fail(key, "must be an object");
-      r.unknown_keys(t, {"name", "entry", "direction", "inner_radius", "outer_radius", "length", "offset", "depth",
-                         "markups"},
-                     key + ".", c.warnings);
+      r.unknown_keys(
+          t, {"name", "entry", "direction", "inner_radius", "outer_radius", "length", "offset", "depth", "markups"},
+          key + ".", c.warnings);
       TubeSpec tube;
       tube.name = t.contains("name") ? r.string(t["name"], key + ".name") : std::to_string(i + 1);
       if (t.contains("markups")) {

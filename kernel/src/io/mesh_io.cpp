@@ -41,18 +41,16 @@ bool looks_like_obj(const char* data, std::size_t size) {
   if (looks_binary(data, n)) return false;
   TextCursor in(data + bom_length(data, n), data + n);
   const std::string_view first = in.token();
-  static constexpr std::string_view kStatements[] = {"v",  "vt", "vn", "vp", "f",      "g",
-                                                     "o",  "s",  "l",  "p",  "mtllib", "usemtl"};
+  static constexpr std::string_view kStatements[] = {"v", "vt", "vn", "vp", "f",      "g",
+                                                     "o", "s",  "l",  "p",  "mtllib", "usemtl"};
   if (!first.empty() && first.front() == '#') return true;
-  return std::find(std::begin(kStatements), std::end(kStatements), first) !=
-         std::end(kStatements);
+  return std::find(std::begin(kStatements), std::end(kStatements), first) != std::end(kStatements);
 }
 
 MeshFormat sniff_format(const char* data, std::size_t size, const std::string& name) {
   if (is_blank(data, size)) fail_blank(name, size);
   if (starts_with_ply_magic(data, size)) return MeshFormat::Ply;
-  if (size >= kStlHeaderBytes &&
-      kStlHeaderBytes + kStlTriangleBytes * std::uint64_t{load_u32_le(data + 80)} == size)
+  if (size >= kStlHeaderBytes && kStlHeaderBytes + kStlTriangleBytes * std::uint64_t{load_u32_le(data + 80)} == size)
     return MeshFormat::Stl;
   if (starts_with_solid(data, size)) return MeshFormat::Stl;
   if (looks_like_obj(data, size)) return MeshFormat::Obj;
@@ -74,7 +72,6 @@ struct FileBytes {
   std::size_t size = 0;
 };
 
-
 /// The whole file in memory, read in one go. Only regular files under the size limit are read
 /// (detail/input_file.h): a device or a FIFO would be read forever or block.
 FileBytes read_file(const std::string& path) {
@@ -92,8 +89,8 @@ FileBytes read_file(const std::string& path) {
 
 } // namespace
 
-TriangleMesh read_mesh_from_memory(const char* data, std::size_t size, MeshFormat format,
-                                   const std::string& name, ReadReport* report) {
+TriangleMesh read_mesh_from_memory(const char* data, std::size_t size, MeshFormat format, const std::string& name,
+                                   ReadReport* report) {
   static const char kEmpty = 0;
   if (!data) {
     if (size != 0) fail(name, "no data (null pointer)");
@@ -116,8 +113,7 @@ TriangleMesh read_mesh(const std::string& path, ReadReport* report, MeshFormat f
   // taken as STL.
   const bool exact_binary_stl =
       bytes.size >= kStlHeaderBytes &&
-      kStlHeaderBytes + kStlTriangleBytes * std::uint64_t{load_u32_le(bytes.data.get() + 80)} ==
-          bytes.size;
+      kStlHeaderBytes + kStlTriangleBytes * std::uint64_t{load_u32_le(bytes.data.get() + 80)} == bytes.size;
   const bool gzipped = !exact_binary_stl && detail::is_gzip(bytes.data.get(), bytes.size);
   std::string plain_name = path;
   std::vector<char> inflated;
@@ -131,8 +127,7 @@ TriangleMesh read_mesh(const std::string& path, ReadReport* report, MeshFormat f
     else if (ext == ".ply") format = MeshFormat::Ply;
     else if (ext == ".obj") format = MeshFormat::Obj;
   }
-  if (gzipped)
-    return read_mesh_from_memory(inflated.data(), inflated.size(), format, path, report);
+  if (gzipped) return read_mesh_from_memory(inflated.data(), inflated.size(), format, path, report);
   return read_mesh_from_memory(bytes.data.get(), bytes.size, format, path, report);
 }
 

@@ -26,8 +26,8 @@
 namespace st::mesh_reader {
 
 using detail::iequals;
-using detail::to_lower;
 using detail::is_space;
+using detail::to_lower;
 using detail::trim;
 
 namespace fs = std::filesystem;
@@ -152,8 +152,7 @@ public:
   }
 
   Index add_vertex(const Vec3& p) {
-    if (mesh_.positions.size() >= kMaxElements)
-      fail(name_, "more than " + std::to_string(kMaxElements) + " vertices");
+    if (mesh_.positions.size() >= kMaxElements) fail(name_, "more than " + std::to_string(kMaxElements) + " vertices");
     mesh_.positions.push_back(p);
     return static_cast<Index>(mesh_.positions.size() - 1);
   }
@@ -164,22 +163,20 @@ public:
       ++degenerate_;
       return;
     }
-    if (mesh_.triangles.size() >= kMaxElements)
-      fail(name_, "more than " + std::to_string(kMaxElements) + " triangles");
+    if (mesh_.triangles.size() >= kMaxElements) fail(name_, "more than " + std::to_string(kMaxElements) + " triangles");
     mesh_.triangles.push_back({a, b, c});
   }
 
   /// Fan triangulation (v0, vi, vi+1) of a polygon with at least 3 corners.
   void add_polygon(const std::vector<Index>& corners) {
-    for (std::size_t i = 1; i + 1 < corners.size(); ++i)
-      add_triangle(corners[0], corners[i], corners[i + 1]);
+    for (std::size_t i = 1; i + 1 < corners.size(); ++i) add_triangle(corners[0], corners[i], corners[i + 1]);
   }
 
   TriangleMesh finish(ReadReport* report, std::size_t merged = 0) {
     if (input_triangles_ == 0) fail(name_, "contains no triangles");
     if (mesh_.triangles.empty())
-      fail(name_, "all " + std::to_string(input_triangles_) +
-                      " triangles are degenerate (two corners at the same vertex)");
+      fail(name_,
+           "all " + std::to_string(input_triangles_) + " triangles are degenerate (two corners at the same vertex)");
     if (report) {
       report->input_triangles = input_triangles_;
       report->merged_vertices = merged;
@@ -204,8 +201,7 @@ private:
 /// Whitespace-separated tokens of a text, with the line each starts on.
 class TextCursor {
 public:
-  TextCursor(const char* begin, const char* end, std::size_t line = 1)
-      : p_(begin), end_(end), line_(line) {}
+  TextCursor(const char* begin, const char* end, std::size_t line = 1) : p_(begin), end_(end), line_(line) {}
 
   /// The next token, or an empty view at the end of the text.
   std::string_view token() {
@@ -259,8 +255,7 @@ inline bool is_blank(const char* data, std::size_t size) {
 }
 
 [[noreturn]] inline void fail_blank(const std::string& name, std::size_t size) {
-  fail(name, size == 0 ? "contains no triangles (the file is empty)"
-                       : "contains no triangles (only blank space)");
+  fail(name, size == 0 ? "contains no triangles (the file is empty)" : "contains no triangles (only blank space)");
 }
 
 /// A FILE* closed when it goes out of scope.

@@ -25,8 +25,7 @@ namespace {
 
 } // namespace
 
-TriangleMesh read_obj(const char* data, std::size_t size, const std::string& name,
-                      ReadReport* report) {
+TriangleMesh read_obj(const char* data, std::size_t size, const std::string& name, ReadReport* report) {
   MeshBuilder builder(name, MeshFormat::Obj);
   std::vector<Index> polygon;
   std::size_t pos = bom_length(data, size);
@@ -53,31 +52,28 @@ TriangleMesh read_obj(const char* data, std::size_t size, const std::string& nam
       for (double& c : xyz) {
         const std::string_view tok = words.token();
         if (!parse_real(tok, c))
-          fail(name, at + "expected 3 vertex coordinates, found " +
-                         (tok.empty() ? std::string("end of line") : quoted(tok)));
+          fail(name,
+               at + "expected 3 vertex coordinates, found " + (tok.empty() ? std::string("end of line") : quoted(tok)));
       }
       if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2]))
         fail(name, at + "vertex " + std::to_string(builder.mesh().positions.size() + 1) +
-                       " (counting from 1, as OBJ does) has a non-finite coordinate " +
-                       triple(xyz[0], xyz[1], xyz[2]));
-      builder.add_vertex(Vec3(xyz[0], xyz[1], xyz[2]));  // an optional w (or colour) is ignored
+                       " (counting from 1, as OBJ does) has a non-finite coordinate " + triple(xyz[0], xyz[1], xyz[2]));
+      builder.add_vertex(Vec3(xyz[0], xyz[1], xyz[2])); // an optional w (or colour) is ignored
     } else if (key == "f") {
       polygon.clear();
       const auto defined = static_cast<std::int64_t>(builder.mesh().positions.size());
       for (std::string_view tok = words.token(); !tok.empty(); tok = words.token()) {
         const std::string_view index_text = tok.substr(0, tok.find('/'));
         std::int64_t i = 0;
-        if (!parse_int(index_text, i) || i == 0)
-          fail(name, at + "bad vertex index " + quoted(tok));
+        if (!parse_int(index_text, i) || i == 0) fail(name, at + "bad vertex index " + quoted(tok));
         const std::int64_t v = i > 0 ? i - 1 : defined + i;
         if (v < 0 || v >= defined)
-          fail(name, at + "face refers to vertex " + std::to_string(i) + " but only " +
-                         std::to_string(defined) + " vertices are defined so far");
+          fail(name, at + "face refers to vertex " + std::to_string(i) + " but only " + std::to_string(defined) +
+                         " vertices are defined so far");
         polygon.push_back(static_cast<Index>(v));
       }
       if (polygon.size() < 3)
-        fail(name, at + "face has " + std::to_string(polygon.size()) +
-                       " vertices, needs at least 3");
+        fail(name, at + "face has " + std::to_string(polygon.size()) + " vertices, needs at least 3");
       builder.add_polygon(polygon);
     }
     // Every other statement (vt, vn, g, o, s, usemtl, mtllib, l, p, ...) is ignored.

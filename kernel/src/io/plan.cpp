@@ -17,7 +17,6 @@
 #include <cstring>
 #include <map>
 
-
 namespace st {
 
 namespace {
@@ -85,8 +84,8 @@ std::vector<ControlPoint> control_points(const detail::JsonReader& r, const json
       }
     }
     ControlPoint p;
-    p.position = convert_space(r.point(r.required(cp, "position", ck + ".position"), ck + ".position") * scale,
-                               space, target);
+    p.position =
+        convert_space(r.point(r.required(cp, "position", ck + ".position"), ck + ".position") * scale, space, target);
     if (cp.contains("label")) p.label = r.string(cp["label"], ck + ".label");
     out.push_back(std::move(p));
   }
@@ -155,8 +154,7 @@ double csv_number(const std::string& field, const std::string& where) {
   const char* end = field.data() + field.size();
   double v = 0.0;
   const auto [stop, error] = std::from_chars(begin, end, v, std::chars_format::general);
-  if (error == std::errc::result_out_of_range)
-    throw InvalidInput(where + ": \"" + field + "\" is out of range");
+  if (error == std::errc::result_out_of_range) throw InvalidInput(where + ": \"" + field + "\" is out of range");
   if (error != std::errc() || stop != end || begin == end)
     throw InvalidInput(where + ": \"" + field + "\" is not a number");
   if (!std::isfinite(v)) throw InvalidInput(where + ": \"" + field + "\" is not a finite number");
@@ -164,9 +162,9 @@ double csv_number(const std::string& field, const std::string& where) {
 }
 
 const std::vector<std::string> kCsvColumns = {
-    "name",         "entry_x",      "entry_y",        "entry_z",        "direction_x", "direction_y",
-    "direction_z",  "target_x",     "target_y",       "target_z",       "inner_radius", "outer_radius",
-    "inner_diameter", "outer_diameter", "length",      "offset",         "depth"};
+    "name",           "entry_x",        "entry_y",  "entry_z",  "direction_x",  "direction_y",
+    "direction_z",    "target_x",       "target_y", "target_z", "inner_radius", "outer_radius",
+    "inner_diameter", "outer_diameter", "length",   "offset",   "depth"};
 
 } // namespace
 
@@ -197,8 +195,8 @@ Space mesh_file_space(const std::string& path) {
   }
   std::string text = head.substr(0, std::min<std::size_t>(head.size(), 80)); // binary STL header
   text.push_back('\n');
-  text.append(head, 0, head.find('\n'));                                      // ASCII STL's solid line
-  for (std::size_t at = 0; at < head.size();) {                              // OBJ comments
+  text.append(head, 0, head.find('\n'));        // ASCII STL's solid line
+  for (std::size_t at = 0; at < head.size();) { // OBJ comments
     const std::size_t eol = std::min(head.find('\n', at), head.size());
     if (head[at] == '#') text.append("\n").append(head, at, eol - at);
     at = eol + 1;
@@ -206,9 +204,7 @@ Space mesh_file_space(const std::string& path) {
   return mesh_space(text);
 }
 
-Vec3 convert_space(const Vec3& p, Space from, Space to) {
-  return from == to ? p : Vec3(-p.x(), -p.y(), p.z());
-}
+Vec3 convert_space(const Vec3& p, Space from, Space to) { return from == to ? p : Vec3(-p.x(), -p.y(), p.z()); }
 
 Plan parse_markups(const std::string& text, const std::string& path, Space target) {
   const detail::JsonReader r(path);
@@ -242,7 +238,8 @@ Plan parse_markups(const std::string& text, const std::string& path, Space targe
     } else if (type == "Line") {
       if (points.size() != 2)
         r.fail(what, "a drilling axis needs exactly 2 defined control points (entry, then a point inside the "
-                     "bone), got " + std::to_string(points.size()));
+                     "bone), got " +
+                         std::to_string(points.size()));
       PlanAxis axis;
       axis.entry = points[0].position;
       const Vec3 along = points[1].position - points[0].position;
@@ -320,7 +317,7 @@ Plan parse_plan_csv(const std::string& text, const std::string& path, Space targ
       const std::size_t tabs = std::count(line.begin(), line.end(), '\t');
       if (commas + semicolons + tabs == 0)
         throw InvalidInput(where + ": the first line must name the columns (name, entry_x, entry_y, ...), "
-                           "separated by commas, semicolons or tabs");
+                                   "separated by commas, semicolons or tabs");
       delimiter = tabs >= commas && tabs >= semicolons ? '\t' : semicolons > commas ? ';' : ',';
       for (const std::string& f : split_fields(line, delimiter, where)) header.push_back(column_key(f, where));
       for (std::size_t i = 0; i < header.size(); ++i) {
@@ -354,9 +351,7 @@ Plan parse_plan_csv(const std::string& text, const std::string& path, Space targ
                          std::to_string(header.size()));
     const auto field = [&](const char* c) -> const std::string& { return fields[column.at(c)]; };
     const auto number = [&](const char* c) { return csv_number(field(c), where + ": " + c); };
-    const auto vec = [&](const char* x, const char* y, const char* z) {
-      return Vec3(number(x), number(y), number(z));
-    };
+    const auto vec = [&](const char* x, const char* y, const char* z) { return Vec3(number(x), number(y), number(z)); };
     const auto optional = [&](const char* c, double scale) -> std::optional<double> {
       if (!column.count(c) || field(c).empty()) return std::nullopt;
       return number(c) * scale;
@@ -364,8 +359,7 @@ Plan parse_plan_csv(const std::string& text, const std::string& path, Space targ
     const Space from = file_space.value_or(target);
     PlanAxis axis;
     axis.source = where;
-    axis.name = column.count("name") && !field("name").empty() ? field("name")
-                                                                 : std::to_string(plan.axes.size() + 1);
+    axis.name = column.count("name") && !field("name").empty() ? field("name") : std::to_string(plan.axes.size() + 1);
     axis.entry = convert_space(vec("entry_x", "entry_y", "entry_z"), from, target);
     if (column.count("direction_x")) {
       const Vec3 d = convert_space(vec("direction_x", "direction_y", "direction_z"), from, target);
@@ -380,8 +374,10 @@ Plan parse_plan_csv(const std::string& text, const std::string& path, Space targ
       axis.direction = along / n;
       axis.depth = n;
     }
-    axis.inner_radius = column.count("inner_diameter") ? optional("inner_diameter", 0.5) : optional("inner_radius", 1.0);
-    axis.outer_radius = column.count("outer_diameter") ? optional("outer_diameter", 0.5) : optional("outer_radius", 1.0);
+    axis.inner_radius =
+        column.count("inner_diameter") ? optional("inner_diameter", 0.5) : optional("inner_radius", 1.0);
+    axis.outer_radius =
+        column.count("outer_diameter") ? optional("outer_diameter", 0.5) : optional("outer_radius", 1.0);
     axis.length = optional("length", 1.0);
     axis.offset = optional("offset", 1.0);
     if (const auto depth = optional("depth", 1.0)) axis.depth = depth;

@@ -65,7 +65,7 @@ enum class PlyEncoding { Ascii, LittleEndian, BigEndian };
 
 struct PlyProperty {
   std::string name;
-  PlyType type = PlyType::Float32;  // the item type for a list
+  PlyType type = PlyType::Float32; // the item type for a list
   bool is_list = false;
   PlyType count_type = PlyType::Uint8;
 };
@@ -74,18 +74,17 @@ struct PlyElement {
   std::string name;
   std::uint64_t count = 0;
   std::vector<PlyProperty> properties;
-  std::size_t line = 0;  // header line that declares it
+  std::size_t line = 0; // header line that declares it
 };
 
 struct PlyHeader {
   PlyEncoding encoding = PlyEncoding::Ascii;
   std::vector<PlyElement> elements;
-  std::size_t body_offset = 0;  // first byte after "end_header\n"
-  std::size_t body_line = 0;    // line number of that byte
+  std::size_t body_offset = 0; // first byte after "end_header\n"
+  std::size_t body_line = 0;   // line number of that byte
 };
 
-PlyHeader parse_ply_header(const char* data, std::size_t size, const std::string& name,
-                           MeshBuilder& builder) {
+PlyHeader parse_ply_header(const char* data, std::size_t size, const std::string& name, MeshBuilder& builder) {
   PlyHeader header;
   bool have_format = false;
   std::size_t pos = 0;
@@ -146,16 +145,13 @@ PlyHeader parse_ply_header(const char* data, std::size_t size, const std::string
       PlyProperty p;
       if (words.size() == 5 && words[1] == "list") {
         p.is_list = true;
-        if (!ply_type_from_name(words[2], p.count_type))
-          fail(name, at + "unknown PLY type " + quoted(words[2]));
+        if (!ply_type_from_name(words[2], p.count_type)) fail(name, at + "unknown PLY type " + quoted(words[2]));
         if (!ply_is_integer(p.count_type))
           fail(name, at + "list count type " + quoted(words[2]) + " is not an integer type");
-        if (!ply_type_from_name(words[3], p.type))
-          fail(name, at + "unknown PLY type " + quoted(words[3]));
+        if (!ply_type_from_name(words[3], p.type)) fail(name, at + "unknown PLY type " + quoted(words[3]));
         p.name = std::string(words[4]);
       } else if (words.size() == 3 && words[1] != "list") {
-        if (!ply_type_from_name(words[1], p.type))
-          fail(name, at + "unknown PLY type " + quoted(words[1]));
+        if (!ply_type_from_name(words[1], p.type)) fail(name, at + "unknown PLY type " + quoted(words[1]));
         p.name = std::string(words[2]);
       } else {
         fail(name, at + "expected 'property <type> <name>' or "
@@ -274,8 +270,7 @@ public:
   }
   /// Each value takes at least one byte (a digit), so a count above the bytes left is impossible.
   bool can_hold(std::uint64_t count, std::size_t min_values) const {
-    return min_values == 0 ||
-           count <= static_cast<std::size_t>(end_ - in_.position()) / min_values;
+    return min_values == 0 || count <= static_cast<std::size_t>(end_ - in_.position()) / min_values;
   }
 
 private:
@@ -283,9 +278,8 @@ private:
   const char* end_;
 };
 
-template <typename Source>
-void read_ply_body(Source& in, const PlyHeader& header, std::size_t bytes_per_value,
-                   const std::string& name, MeshBuilder& builder) {
+template <typename Source> void read_ply_body(Source& in, const PlyHeader& header, std::size_t bytes_per_value,
+                                              const std::string& name, MeshBuilder& builder) {
   const PlyElement* vertex_element = nullptr;
   const PlyElement* face_element = nullptr;
   for (const PlyElement& e : header.elements) {
@@ -308,14 +302,13 @@ void read_ply_body(Source& in, const PlyHeader& header, std::size_t bytes_per_va
           break;
         }
       if (xyz_property[k] < 0 && vertex_count > 0)
-        fail(name, "line " + std::to_string(vertex_element->line) +
-                       ": the 'vertex' element has no '" + axis + "' property");
+        fail(name,
+             "line " + std::to_string(vertex_element->line) + ": the 'vertex' element has no '" + axis + "' property");
     }
   }
   if (vertex_count > kMaxElements)
-    fail(name, "line " + std::to_string(vertex_element->line) + ": " +
-                   std::to_string(vertex_count) + " vertices, more than " +
-                   std::to_string(kMaxElements));
+    fail(name, "line " + std::to_string(vertex_element->line) + ": " + std::to_string(vertex_count) +
+                   " vertices, more than " + std::to_string(kMaxElements));
   int corner_property = -1;
   for (std::size_t i = 0; i < face_element->properties.size(); ++i) {
     const PlyProperty& p = face_element->properties[i];
@@ -327,14 +320,12 @@ void read_ply_body(Source& in, const PlyHeader& header, std::size_t bytes_per_va
   if (corner_property < 0 && face_element->count > 0)
     fail(name, "line " + std::to_string(face_element->line) +
                    ": the 'face' element has no list property 'vertex_indices' or 'vertex_index'");
-  if (corner_property >= 0 &&
-      !ply_is_integer(face_element->properties[static_cast<std::size_t>(corner_property)].type))
-    fail(name, "line " + std::to_string(face_element->line) +
-                   ": the face corner list has a non-integer index type");
+  if (corner_property >= 0 && !ply_is_integer(face_element->properties[static_cast<std::size_t>(corner_property)].type))
+    fail(name, "line " + std::to_string(face_element->line) + ": the face corner list has a non-integer index type");
 
   std::vector<Index> polygon;
   for (const PlyElement& e : header.elements) {
-    if (e.properties.empty()) continue;  // takes no bytes, whatever its count
+    if (e.properties.empty()) continue; // takes no bytes, whatever its count
     // The smallest size of one entry; a header count above what the bytes left can hold is refused
     // before anything is reserved.
     std::size_t min_bytes = 0;
@@ -349,8 +340,7 @@ void read_ply_body(Source& in, const PlyHeader& header, std::size_t bytes_per_va
     if (is_face) builder.mesh().triangles.reserve(e.count);
 
     auto truncated = [&](std::uint64_t i) {
-      fail(name, in.where() + ": unexpected end of data or bad value in element '" + e.name +
-                     "' " + std::to_string(i));
+      fail(name, in.where() + ": unexpected end of data or bad value in element '" + e.name + "' " + std::to_string(i));
     };
     for (std::uint64_t i = 0; i < e.count; ++i) {
       double xyz[3] = {0.0, 0.0, 0.0};
@@ -358,8 +348,7 @@ void read_ply_body(Source& in, const PlyHeader& header, std::size_t bytes_per_va
         const PlyProperty& p = e.properties[j];
         const int pj = static_cast<int>(j);
         if (!p.is_list) {
-          if (is_vertex && (pj == xyz_property[0] || pj == xyz_property[1] ||
-                            pj == xyz_property[2])) {
+          if (is_vertex && (pj == xyz_property[0] || pj == xyz_property[1] || pj == xyz_property[2])) {
             const int k = pj == xyz_property[0] ? 0 : (pj == xyz_property[1] ? 1 : 2);
             if (!in.real(p.type, xyz[k])) truncated(i);
           } else if (!in.skip(p.type)) {
@@ -376,28 +365,25 @@ void read_ply_body(Source& in, const PlyHeader& header, std::size_t bytes_per_va
           if (!in.skip_items(p.type, static_cast<std::uint64_t>(count))) truncated(i);
           continue;
         }
-        if (!in.can_hold(static_cast<std::uint64_t>(count),
-                         bytes_per_value == 0 ? 1 : ply_size(p.type)))
-          truncated(i);
+        if (!in.can_hold(static_cast<std::uint64_t>(count), bytes_per_value == 0 ? 1 : ply_size(p.type))) truncated(i);
         if (count < 3)
-          fail(name, in.where() + ": face " + std::to_string(i) + " has " +
-                         std::to_string(count) + " vertices, needs at least 3");
+          fail(name, in.where() + ": face " + std::to_string(i) + " has " + std::to_string(count) +
+                         " vertices, needs at least 3");
         polygon.clear();
         for (std::int64_t c = 0; c < count; ++c) {
           std::int64_t v = 0;
           if (!in.integer(p.type, v)) truncated(i);
           if (v < 0 || static_cast<std::uint64_t>(v) >= vertex_count)
-            fail(name, in.where() + ": face " + std::to_string(i) + " refers to vertex " +
-                           std::to_string(v) + " but there are only " +
-                           std::to_string(vertex_count) + " vertices");
+            fail(name, in.where() + ": face " + std::to_string(i) + " refers to vertex " + std::to_string(v) +
+                           " but there are only " + std::to_string(vertex_count) + " vertices");
           polygon.push_back(static_cast<Index>(v));
         }
         builder.add_polygon(polygon);
       }
       if (is_vertex) {
         if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2]))
-          fail(name, in.where() + ": vertex " + std::to_string(i) +
-                         " has a non-finite coordinate " + triple(xyz[0], xyz[1], xyz[2]));
+          fail(name, in.where() + ": vertex " + std::to_string(i) + " has a non-finite coordinate " +
+                         triple(xyz[0], xyz[1], xyz[2]));
         builder.add_vertex(Vec3(xyz[0], xyz[1], xyz[2]));
       }
     }
@@ -406,8 +392,7 @@ void read_ply_body(Source& in, const PlyHeader& header, std::size_t bytes_per_va
 
 } // namespace
 
-TriangleMesh read_ply(const char* data, std::size_t size, const std::string& name,
-                      ReadReport* report) {
+TriangleMesh read_ply(const char* data, std::size_t size, const std::string& name, ReadReport* report) {
   if (is_blank(data, size)) fail_blank(name, size);
   // A byte order mark before the magic is skipped (byte offsets in messages then count from the
   // magic).
@@ -420,8 +405,7 @@ TriangleMesh read_ply(const char* data, std::size_t size, const std::string& nam
     PlyAsciiSource in(data, header.body_offset, size, header.body_line);
     read_ply_body(in, header, 0, name, builder);
   } else {
-    PlyBinarySource in(data, header.body_offset, size,
-                       header.encoding == PlyEncoding::BigEndian);
+    PlyBinarySource in(data, header.body_offset, size, header.encoding == PlyEncoding::BigEndian);
     read_ply_body(in, header, 1, name, builder);
   }
   return builder.finish(report);

@@ -35,8 +35,7 @@ public:
   }
 
   static std::uint64_t hash(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
-    std::uint64_t h = (static_cast<std::uint64_t>(x) | static_cast<std::uint64_t>(y) << 32) *
-                      0x9E3779B97F4A7C15ull;
+    std::uint64_t h = (static_cast<std::uint64_t>(x) | static_cast<std::uint64_t>(y) << 32) * 0x9E3779B97F4A7C15ull;
     h ^= (static_cast<std::uint64_t>(z) + 0x632BE59BD9B4E019ull) * 0xC2B2AE3D27D4EB4Full;
     h ^= h >> 29;
     h *= 0xBF58476D1CE4E5B9ull;
@@ -55,8 +54,7 @@ public:
 
   /// The vertex of the corner with these coordinate bits (and hash(x, y, z) == h); `next` (the
   /// vertex count) when it is new.
-  Index find_or_insert(std::uint32_t x, std::uint32_t y, std::uint32_t z, std::uint64_t h,
-                       Index next) {
+  Index find_or_insert(std::uint32_t x, std::uint32_t y, std::uint32_t z, std::uint64_t h, Index next) {
     if (2 * (count_ + 1) > slots_.size()) grow();
     std::size_t i = static_cast<std::size_t>(h) & mask_;
     for (;;) {
@@ -99,13 +97,10 @@ bool is_finite_bits(std::uint32_t bits) { return (bits & 0x7f800000u) != 0x7f800
 float float_from_bits(std::uint32_t bits) { return std::bit_cast<float>(bits); }
 
 /// Adds one STL corner (float32 coordinate bits, -0.0 already made 0.0) through the welder.
-Index add_stl_corner(MeshBuilder& builder, CornerWelder& welder, const std::uint32_t bits[3],
-                     std::uint64_t hash) {
+Index add_stl_corner(MeshBuilder& builder, CornerWelder& welder, const std::uint32_t bits[3], std::uint64_t hash) {
   const Index next = static_cast<Index>(builder.mesh().positions.size());
   const Index v = welder.find_or_insert(bits[0], bits[1], bits[2], hash, next);
-  if (v == next)
-    builder.add_vertex(Vec3(float_from_bits(bits[0]), float_from_bits(bits[1]),
-                            float_from_bits(bits[2])));
+  if (v == next) builder.add_vertex(Vec3(float_from_bits(bits[0]), float_from_bits(bits[1]), float_from_bits(bits[2])));
   return v;
 }
 
@@ -123,13 +118,13 @@ TriangleMesh read_stl_binary(const char* data, const std::string& name, ReadRepo
   MeshBuilder builder(name, MeshFormat::Stl);
   builder.header() = stl_header_text(data);
   builder.mesh().triangles.reserve(n);
-  builder.mesh().positions.reserve(n / 2 + n / 16 + 4);  // a closed mesh has about n / 2
+  builder.mesh().positions.reserve(n / 2 + n / 16 + 4); // a closed mesh has about n / 2
   CornerWelder welder(n / 2 + n / 16 + 4);
 
   // Corners go through the welder in batches: first all their slots are prefetched, so the cache
   // misses of a batch overlap, then they are looked up in file order (vertices are numbered in
   // order of first appearance).
-  constexpr std::size_t kBatch = 32;  // triangles
+  constexpr std::size_t kBatch = 32; // triangles
   std::uint32_t bits[kBatch * 3][3];
   std::uint64_t hashes[kBatch * 3];
   for (std::size_t first = 0; first < n; first += kBatch) {
@@ -144,21 +139,18 @@ TriangleMesh read_stl_binary(const char* data, const std::string& name, ReadRepo
         c[1] = load_u32_le(corner + 4);
         c[2] = load_u32_le(corner + 8);
         if (!is_finite_bits(c[0]) || !is_finite_bits(c[1]) || !is_finite_bits(c[2]))
-          fail(name, "triangle " + std::to_string(t) + " corner " + std::to_string(k) +
-                         " (byte offset " + std::to_string(corner - data) +
-                         ") has a non-finite coordinate " +
-                         triple(float_from_bits(c[0]), float_from_bits(c[1]),
-                                float_from_bits(c[2])));
+          fail(name, "triangle " + std::to_string(t) + " corner " + std::to_string(k) + " (byte offset " +
+                         std::to_string(corner - data) + ") has a non-finite coordinate " +
+                         triple(float_from_bits(c[0]), float_from_bits(c[1]), float_from_bits(c[2])));
         for (int d = 0; d < 3; ++d)
-          if (c[d] == 0x80000000u) c[d] = 0;  // -0.0 welds with 0.0
+          if (c[d] == 0x80000000u) c[d] = 0; // -0.0 welds with 0.0
         hashes[3 * b + k] = CornerWelder::hash(c[0], c[1], c[2]);
         welder.prefetch(hashes[3 * b + k]);
       }
     }
     for (std::size_t b = 0; b < count; ++b) {
       Index v[3];
-      for (std::size_t k = 0; k < 3; ++k)
-        v[k] = add_stl_corner(builder, welder, bits[3 * b + k], hashes[3 * b + k]);
+      for (std::size_t k = 0; k < 3; ++k) v[k] = add_stl_corner(builder, welder, bits[3 * b + k], hashes[3 * b + k]);
       builder.add_triangle(v[0], v[1], v[2]);
     }
   }
@@ -166,9 +158,7 @@ TriangleMesh read_stl_binary(const char* data, const std::string& name, ReadRepo
   return builder.finish(report, merged);
 }
 
-
-TriangleMesh read_stl_ascii(const char* data, std::size_t size, const std::string& name,
-                            ReadReport* report) {
+TriangleMesh read_stl_ascii(const char* data, std::size_t size, const std::string& name, ReadReport* report) {
   MeshBuilder builder(name, MeshFormat::Stl);
   CornerWelder welder(size / 256 + 16);
   TextCursor in(data + bom_length(data, size), data + size);
@@ -187,15 +177,13 @@ TriangleMesh read_stl_ascii(const char* data, std::size_t size, const std::strin
   for (;;) {
     std::string_view tok = in.token();
     if (tok.empty()) break;
-    if (!iequals(tok, "solid"))
-      fail(name, at(in.token_line()) + "expected 'solid', found " + quoted(tok));
+    if (!iequals(tok, "solid")) fail(name, at(in.token_line()) + "expected 'solid', found " + quoted(tok));
     const std::string_view solid_name = in.rest_of_line();
-    builder.add_header_line(solid_name.empty() ? std::string(tok)
-                                               : std::string(tok) + " " + std::string(solid_name));
+    builder.add_header_line(solid_name.empty() ? std::string(tok) : std::string(tok) + " " + std::string(solid_name));
     bool end_of_file = false;
     for (;;) {
       tok = in.token();
-      if (tok.empty()) {  // a missing "endsolid" at the very end is tolerated
+      if (tok.empty()) { // a missing "endsolid" at the very end is tolerated
         end_of_file = true;
         break;
       }
@@ -236,21 +224,18 @@ TriangleMesh read_stl_ascii(const char* data, std::size_t size, const std::strin
                            (tok.empty() ? std::string("end of file") : quoted(tok)));
         }
         if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2]))
-          fail(name, at(line) + "facet " + std::to_string(facet) + " corner " +
-                         std::to_string(corners.size()) +
-                         " has a non-finite or out-of-range coordinate " +
-                         triple(xyz[0], xyz[1], xyz[2]));
+          fail(name, at(line) + "facet " + std::to_string(facet) + " corner " + std::to_string(corners.size()) +
+                         " has a non-finite or out-of-range coordinate " + triple(xyz[0], xyz[1], xyz[2]));
         std::uint32_t bits[3];
         for (int d = 0; d < 3; ++d) {
           bits[d] = std::bit_cast<std::uint32_t>(xyz[d]);
-          if (bits[d] == 0x80000000u) bits[d] = 0;  // -0.0 welds with 0.0
+          if (bits[d] == 0x80000000u) bits[d] = 0; // -0.0 welds with 0.0
         }
-        corners.push_back(add_stl_corner(builder, welder, bits,
-                                         CornerWelder::hash(bits[0], bits[1], bits[2])));
+        corners.push_back(add_stl_corner(builder, welder, bits, CornerWelder::hash(bits[0], bits[1], bits[2])));
       }
       if (corners.size() < 3)
-        fail(name, at(in.token_line()) + "facet " + std::to_string(facet) + " has " +
-                       std::to_string(corners.size()) + " vertices, needs at least 3");
+        fail(name, at(in.token_line()) + "facet " + std::to_string(facet) + " has " + std::to_string(corners.size()) +
+                       " vertices, needs at least 3");
       expect("endfacet");
       builder.add_polygon(corners);
       corner_total += corners.size();
@@ -263,8 +248,7 @@ TriangleMesh read_stl_ascii(const char* data, std::size_t size, const std::strin
 
 } // namespace
 
-TriangleMesh read_stl(const char* data, std::size_t size, const std::string& name,
-                      ReadReport* report) {
+TriangleMesh read_stl(const char* data, std::size_t size, const std::string& name, ReadReport* report) {
   if (is_blank(data, size)) fail_blank(name, size);
   std::uint64_t count = 0;
   std::uint64_t needed = 0;
@@ -279,9 +263,8 @@ TriangleMesh read_stl(const char* data, std::size_t size, const std::string& nam
   if (size < kStlHeaderBytes)
     fail(name, "truncated or corrupt binary STL: file has " + std::to_string(size) +
                    " bytes, less than the 84-byte header (and it is not ASCII STL)");
-  fail(name, "truncated or corrupt binary STL: header says " + std::to_string(count) +
-                 " triangles (needs " + std::to_string(needed) + " bytes), file has " +
-                 std::to_string(size) + " bytes");
+  fail(name, "truncated or corrupt binary STL: header says " + std::to_string(count) + " triangles (needs " +
+                 std::to_string(needed) + " bytes), file has " + std::to_string(size) + " bytes");
 }
 
 } // namespace st::mesh_reader
@@ -299,14 +282,12 @@ void write_stl(const TriangleMesh& mesh, const std::string& path, const std::str
     for (int k = 0; k < 3; ++k) {
       const Index v = mesh.triangles[f][static_cast<std::size_t>(k)];
       if (v >= mesh.positions.size())
-        fail(path, "cannot write: triangle " + std::to_string(f) + " refers to vertex " +
-                       std::to_string(v) + " but there are only " +
-                       std::to_string(mesh.positions.size()) + " vertices");
+        fail(path, "cannot write: triangle " + std::to_string(f) + " refers to vertex " + std::to_string(v) +
+                       " but there are only " + std::to_string(mesh.positions.size()) + " vertices");
       const Vec3& p = mesh.positions[v];
       if (!p.allFinite() || p.cwiseAbs().maxCoeff() > float_max)
-        fail(path, "cannot write: vertex " + std::to_string(v) + " (triangle " +
-                       std::to_string(f) + ") has a non-finite or beyond-float32 coordinate " +
-                       triple(p.x(), p.y(), p.z()));
+        fail(path, "cannot write: vertex " + std::to_string(v) + " (triangle " + std::to_string(f) +
+                       ") has a non-finite or beyond-float32 coordinate " + triple(p.x(), p.y(), p.z()));
     }
 
   const std::string tmp = path + ".tmp";
@@ -333,7 +314,7 @@ void write_stl(const TriangleMesh& mesh, const std::string& path, const std::str
   store_u32_le(head + 80, static_cast<std::uint32_t>(mesh.triangles.size()));
   write(head, sizeof head);
 
-  constexpr std::size_t kChunk = 8192;  // triangles per write
+  constexpr std::size_t kChunk = 8192; // triangles per write
   std::vector<char> buffer(kChunk * kStlTriangleBytes);
   std::size_t used = 0;
   for (const Triangle& t : mesh.triangles) {
@@ -344,14 +325,12 @@ void write_stl(const TriangleMesh& mesh, const std::string& path, const std::str
     Eigen::Vector3d n = (c[1].cast<double>() - a).cross(c[2].cast<double>() - a);
     const double len = n.norm();
     n = len > 0.0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
-    float values[12] = {static_cast<float>(n.x()), static_cast<float>(n.y()),
-                        static_cast<float>(n.z())};
+    float values[12] = {static_cast<float>(n.x()), static_cast<float>(n.y()), static_cast<float>(n.z())};
     for (int k = 0; k < 3; ++k)
       for (int d = 0; d < 3; ++d) values[3 + 3 * k + d] = c[k][d];
     char* record = buffer.data() + used;
-    for (int i = 0; i < 12; ++i)
-      store_u32_le(record + 4 * i, std::bit_cast<std::uint32_t>(values[i]));
-    record[48] = record[49] = 0;  // attribute byte count
+    for (int i = 0; i < 12; ++i) store_u32_le(record + 4 * i, std::bit_cast<std::uint32_t>(values[i]));
+    record[48] = record[49] = 0; // attribute byte count
     used += kStlTriangleBytes;
     if (used == buffer.size()) {
       write(buffer.data(), used);
@@ -359,8 +338,7 @@ void write_stl(const TriangleMesh& mesh, const std::string& path, const std::str
     }
   }
   write(buffer.data(), used);
-  if (std::fflush(guard.file.get()) != 0)
-    fail(path, "cannot write '" + tmp + "': " + system_reason(errno));
+  if (std::fflush(guard.file.get()) != 0) fail(path, "cannot write '" + tmp + "': " + system_reason(errno));
   const int close_result = std::fclose(guard.file.release());
   if (close_result != 0) fail(path, "cannot write '" + tmp + "': " + system_reason(errno));
 

@@ -41,15 +41,15 @@ struct BooleanOptions {
 
 struct BooleanResult {
   TriangleMesh mesh;
-  std::vector<std::uint8_t> from_b;  ///< per result face: 1 when it comes from the second operand
-  std::vector<Index> source_face;    ///< per result face: the operand's face it is (part of)
+  std::vector<std::uint8_t> from_b; ///< per result face: 1 when it comes from the second operand
+  std::vector<Index> source_face;   ///< per result face: the operand's face it is (part of)
   std::size_t intersecting_pairs = 0;
-  std::size_t curve_segments = 0;    ///< edges along the intersection curves
+  std::size_t curve_segments = 0; ///< edges along the intersection curves
   std::size_t split_faces = 0;
-  std::size_t collapsed_edges = 0;   ///< curve edges under 256 float ulp collapsed (see boolean.cpp)
-  double curve_tolerance = 0.0;      ///< that length, mm: how far a collapse may move the curve
-  int attempts = 1;                  ///< > 1 when a degenerate contact needed a perturbation
-  double perturbation = 0.0;         ///< size of the offset applied to the second operand, mm
+  std::size_t collapsed_edges = 0; ///< curve edges under 256 float ulp collapsed (see boolean.cpp)
+  double curve_tolerance = 0.0;    ///< that length, mm: how far a collapse may move the curve
+  int attempts = 1;                ///< > 1 when a degenerate contact needed a perturbation
+  double perturbation = 0.0;       ///< size of the offset applied to the second operand, mm
   double seconds = 0.0;
 };
 

@@ -35,7 +35,6 @@ bool mesh_triangles_intersect(const std::array<Index, 3>& ta, const std::array<V
 
 /// True when the closed segment [p, q] and the closed triangle (a, b, c) share a point. The segment may
 /// be a point (p == q) and the triangle may be degenerate.
-bool segment_intersects_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
-                                 const Vec3& c);
+bool segment_intersects_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c);
 
 } // namespace st

@@ -38,8 +38,7 @@ public:
   closest_point(const Vec3& p, double max_distance = std::numeric_limits<double>::infinity()) const;
 
   /// First intersection of the ray origin + t*direction, t in [t_min, t_max].
-  [[nodiscard]] std::optional<RayHit> first_hit(const Vec3& origin, const Vec3& direction,
-                                                double t_min = 0.0,
+  [[nodiscard]] std::optional<RayHit> first_hit(const Vec3& origin, const Vec3& direction, double t_min = 0.0,
                                                 double t_max = std::numeric_limits<double>::infinity()) const;
 
   /// Calls visit(face) for every triangle whose box overlaps `box`.
@@ -49,15 +48,14 @@ public:
   void for_each_overlapping_pair(const std::function<void(Index, Index)>& visit) const;
 
   /// Calls visit(fa, fb) for every triangle fa of this tree and fb of `other` whose boxes overlap.
-  void for_each_overlapping_pair(const AabbTree& other,
-                                 const std::function<void(Index, Index)>& visit) const;
+  void for_each_overlapping_pair(const AabbTree& other, const std::function<void(Index, Index)>& visit) const;
 
 private:
   struct Node {
     BoundingBox box;
     Index left = kInvalidIndex; // child nodes, or kInvalidIndex for a leaf
     Index right = kInvalidIndex;
-    Index begin = 0;            // leaf: range in faces_
+    Index begin = 0; // leaf: range in faces_
     Index end = 0;
   };
   struct Item {
@@ -67,8 +65,7 @@ private:
   };
   Index build(std::vector<Item>& items, Index begin, Index end);
   void self_pairs(Index a, Index b, const std::function<void(Index, Index)>& visit) const;
-  void cross_pairs(Index a, const AabbTree& other, Index b,
-                   const std::function<void(Index, Index)>& visit) const;
+  void cross_pairs(Index a, const AabbTree& other, Index b, const std::function<void(Index, Index)>& visit) const;
 
   const TriangleMesh& mesh_;
   std::vector<Index> faces_;

@@ -16,7 +16,7 @@ enum Feature : int { kFace = 0, kVertex0, kVertex1, kVertex2, kEdge01, kEdge12, 
 struct TriangleGeometry {
   Vec3 a, ab, ac;
   double abab = 0.0, abac = 0.0, acac = 0.0;
-  double inv_gram = 0.0; // 1 / |ab x ac|^2
+  double inv_gram = 0.0;      // 1 / |ab x ac|^2
   Vec3 normal = Vec3::Zero(); // unit, zero when degenerate
   double plane = 0.0;         // normal.a: |normal.p - plane| is a lower bound of the distance
   bool degenerate = false;    // the smallest angle's sine is below 1e-6: handled as its three edges
@@ -43,12 +43,11 @@ inline TriangleGeometry triangle_geometry(const Vec3& a, const Vec3& b, const Ve
 struct Nearest {
   double squared = 0.0;
   Vec3 offset = Vec3::Zero(); // query point minus closest point
-  int feature = kFace;  // where the closest point lies
+  int feature = kFace;        // where the closest point lies
 };
 
 /// Closest point of segment s-e to p, with its feature (at_s, at_e or inside).
-inline Nearest nearest_on_segment(const Vec3& p, const Vec3& s, const Vec3& e, int at_s, int at_e,
-                           int inside) {
+inline Nearest nearest_on_segment(const Vec3& p, const Vec3& s, const Vec3& e, int at_s, int at_e, int inside) {
   const Vec3 se = e - s;
   const double len2 = se.squaredNorm();
   const double t = len2 > 0.0 ? (p - s).dot(se) / len2 : 0.0;

@@ -45,9 +45,7 @@ struct BoundingBox {
   [[nodiscard]] Vec3 size() const { return max - min; }
   [[nodiscard]] Vec3 center() const { return 0.5 * (min + max); }
   [[nodiscard]] double diagonal() const { return valid() ? size().norm() : 0.0; }
-  [[nodiscard]] BoundingBox inflated(double d) const {
-    return {min - Vec3::Constant(d), max + Vec3::Constant(d)};
-  }
+  [[nodiscard]] BoundingBox inflated(double d) const { return {min - Vec3::Constant(d), max + Vec3::Constant(d)}; }
   [[nodiscard]] bool contains(const Vec3& p) const {
     return (p.array() >= min.array()).all() && (p.array() <= max.array()).all();
   }

@@ -51,8 +51,7 @@ private:
 /// half-edge); each loop lists vertex indices in half-edge order, so the mesh lies to the left of
 /// the loop seen from the normal side. Throws GeometryError naming the vertex when a border vertex
 /// is not simple (two border fans meet there).
-std::vector<std::vector<Index>> border_loops(const TriangleMesh& mesh,
-                                             const std::vector<Index>& opposites);
+std::vector<std::vector<Index>> border_loops(const TriangleMesh& mesh, const std::vector<Index>& opposites);
 
 /// Number of edge-connected components (faces joined across manifold edges).
 std::size_t component_count(const TriangleMesh& mesh, const std::vector<Index>& opposites);

@@ -32,8 +32,8 @@ struct CutOptions {
 };
 
 struct CutResult {
-  TriangleMesh region;            ///< the kept part, triangles oriented as in the input
-  std::vector<Index> rim;         ///< the region's border loop (region vertex indices), region on its left
+  TriangleMesh region;              ///< the kept part, triangles oriented as in the input
+  std::vector<Index> rim;           ///< the region's border loop (region vertex indices), region on its left
   std::vector<Index> source_vertex; ///< per region vertex: the input vertex, or kInvalidIndex for a cut vertex
   /// Where a cut vertex lies: (1 - t) * input[edge[0]] + t * input[edge[1]]. For input vertices the
   /// edge is (v, v) and t = 0.
@@ -41,8 +41,8 @@ struct CutResult {
     std::array<Index, 2> edge{kInvalidIndex, kInvalidIndex};
     double t = 0.0;
   };
-  std::vector<Source> source;     ///< per region vertex
-  double area = 0.0;              ///< area of the region, mm^2
+  std::vector<Source> source; ///< per region vertex
+  double area = 0.0;          ///< area of the region, mm^2
 };
 
 /// Cuts `topology.mesh()` along `curve` (from trace_surface_curve on the same topology).

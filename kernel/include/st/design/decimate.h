@@ -76,13 +76,13 @@ struct DecimateOptions {
 };
 
 struct DecimateResult {
-  TriangleMesh mesh;                ///< only the used vertices, triangles in input orientation
+  TriangleMesh mesh; ///< only the used vertices, triangles in input orientation
   /// For each output vertex: the index of the input vertex it is, at a bit-identical position, or
   /// kInvalidIndex when it moved. With keep_border, every border vertex maps to its input vertex: the
   /// caller finds the rim of the input in the output this way.
   std::vector<Index> vertex_source;
-  std::size_t collapses = 0;        ///< edge collapses performed
-  std::size_t degenerate_left = 0;  ///< zero-area triangles that could not be removed (see above)
+  std::size_t collapses = 0;       ///< edge collapses performed
+  std::size_t degenerate_left = 0; ///< zero-area triangles that could not be removed (see above)
 };
 
 /// Simplifies `mesh` by edge collapses as described above.

@@ -33,7 +33,7 @@ struct RuledResult {
 
 /// Wall between closed loops P (m >= 2 points) and Q (n >= 2 points). Throws InvalidInput for loops
 /// that are too short or too large.
-RuledResult ruled_surface(const std::vector<Vec3>& p, const std::vector<Vec3>& q, Index p_offset,
-                          Index q_offset, const RuledOptions& options = {});
+RuledResult ruled_surface(const std::vector<Vec3>& p, const std::vector<Vec3>& q, Index p_offset, Index q_offset,
+                          const RuledOptions& options = {});
 
 } // namespace st

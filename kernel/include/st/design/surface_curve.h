@@ -46,14 +46,14 @@ struct EdgeCrossing {
 };
 
 struct SurfaceCurve {
-  std::vector<Vec3> control_points;     ///< the user's points snapped onto the surface
-  std::vector<Index> control_faces;     ///< the face each snapped point lies on
-  std::vector<Vec3> samples;            ///< dense spline samples on the surface
+  std::vector<Vec3> control_points; ///< the user's points snapped onto the surface
+  std::vector<Index> control_faces; ///< the face each snapped point lies on
+  std::vector<Vec3> samples;        ///< dense spline samples on the surface
   std::vector<Index> sample_faces;
-  std::vector<EdgeCrossing> crossings;  ///< mesh edges crossed, in order along the closed curve
-  std::vector<Vec3> polyline;           ///< the curve on the surface: samples and crossings in order
-  std::vector<Index> local_faces;       ///< the connected faces near the curve that were indexed
-  double length = 0.0;                  ///< length of `polyline`, mm
+  std::vector<EdgeCrossing> crossings; ///< mesh edges crossed, in order along the closed curve
+  std::vector<Vec3> polyline;          ///< the curve on the surface: samples and crossings in order
+  std::vector<Index> local_faces;      ///< the connected faces near the curve that were indexed
+  double length = 0.0;                 ///< length of `polyline`, mm
 };
 
 /// Computes the closed surface curve through `control_points` (in order; the loop closes from the

@@ -18,23 +18,23 @@
 namespace st {
 
 struct TemplateOptions {
-  std::vector<Vec3> boundary_points;  ///< control points around the region, in order (>= 3)
-  std::optional<Vec3> inside;         ///< a point inside the region to keep; else the smaller side
-  double thickness = 2.5;             ///< outer surface distance from the inner surface, mm (> 0)
-  double clearance = 0.0;             ///< gap between bone and inner surface, mm (>= 0)
-  double resolution = 0.0;            ///< distance-field cell size, mm; 0 picks thickness / 8
-  int sampling_step = 0;              ///< border points between outer-cut samples; 0 picks ~ thickness apart
+  std::vector<Vec3> boundary_points; ///< control points around the region, in order (>= 3)
+  std::optional<Vec3> inside;        ///< a point inside the region to keep; else the smaller side
+  double thickness = 2.5;            ///< outer surface distance from the inner surface, mm (> 0)
+  double clearance = 0.0;            ///< gap between bone and inner surface, mm (>= 0)
+  double resolution = 0.0;           ///< distance-field cell size, mm; 0 picks thickness / 8
+  int sampling_step = 0;             ///< border points between outer-cut samples; 0 picks ~ thickness apart
   double max_snap_distance = tol::kMaxSnapDistance_mm;
   double max_field_cells = tol::kMaxFieldCells;
   /// Simplify the contoured outer surface to about two cells per edge, within a tenth of a cell,
   /// keeping its rim and first ring exactly (5x fewer triangles, no slivers; costs 0.3-0.7 s today).
   /// A simplified shell that fails the check falls back to the contoured one.
   bool simplify_outer = false;
-  bool check = true;                  ///< run check_solid on the result (a broken shell is refused)
-  bool measure_fit = true;            ///< with check: also measure the fit (TemplateResult::fit)
+  bool check = true;       ///< run check_solid on the result (a broken shell is refused)
+  bool measure_fit = true; ///< with check: also measure the fit (TemplateResult::fit)
   /// Drilling tubes merged into the shell (guide.h); empty for a template without sleeves.
   std::vector<TubeSpec> tubes;
-  double tube_tolerance = 0.01;       ///< chordal tolerance of sleeves and bores, mm
+  double tube_tolerance = 0.01; ///< chordal tolerance of sleeves and bores, mm
 };
 
 /// Seconds per step, named after the rows of the paper's Table 1.
@@ -50,35 +50,35 @@ struct TemplateTimes {
 };
 
 struct TemplateFit {
-  DistanceStats inner_to_bone;   ///< inner-surface vertices to the bone region (== clearance)
-  DistanceStats outer_to_inner;  ///< outer-surface vertices to the inner surface (== thickness)
-  DistanceStats rim_to_curve;    ///< inner rim vertices to the boundary curve (== 0)
+  DistanceStats inner_to_bone;  ///< inner-surface vertices to the bone region (== clearance)
+  DistanceStats outer_to_inner; ///< outer-surface vertices to the inner surface (== thickness)
+  DistanceStats rim_to_curve;   ///< inner rim vertices to the boundary curve (== 0)
 };
 
 struct TemplateResult {
-  TriangleMesh shell;            ///< the closed template, with its sleeves and bores when it has tubes
-  TriangleMesh body;             ///< the template before the tubes (== shell without tubes)
-  std::size_t body_inner_faces = 0; ///< the body's first faces are its inner surface
+  TriangleMesh shell;                  ///< the closed template, with its sleeves and bores when it has tubes
+  TriangleMesh body;                   ///< the template before the tubes (== shell without tubes)
+  std::size_t body_inner_faces = 0;    ///< the body's first faces are its inner surface
   std::vector<std::uint8_t> from_tube; ///< per shell face: 1 for sleeve and bore faces
   std::vector<TubePlacement> tubes;    ///< per tube: where its sleeve and bore were put
-  int perturbed_operations = 0;  ///< Boolean operations that needed a tiny displacement
-  double max_perturbation = 0.0; ///< the largest such displacement, mm
-  double curve_tolerance = 0.0;  ///< how far the Boolean intersection curves may have moved, mm
-  TriangleMesh columns, bores;   ///< the operands of the tubes' union and difference (guide.h)
-  TriangleMesh inner;            ///< inner surface (bone side), oriented as the bone
-  TriangleMesh outer;            ///< outer surface, oriented outward
-  std::vector<Vec3> curve;       ///< the boundary curve on the bone (closed polyline)
-  std::vector<Vec3> outer_curve; ///< the cut curve on the offset surface
+  int perturbed_operations = 0;        ///< Boolean operations that needed a tiny displacement
+  double max_perturbation = 0.0;       ///< the largest such displacement, mm
+  double curve_tolerance = 0.0;        ///< how far the Boolean intersection curves may have moved, mm
+  TriangleMesh columns, bores;         ///< the operands of the tubes' union and difference (guide.h)
+  TriangleMesh inner;                  ///< inner surface (bone side), oriented as the bone
+  TriangleMesh outer;                  ///< outer surface, oriented outward
+  std::vector<Vec3> curve;             ///< the boundary curve on the bone (closed polyline)
+  std::vector<Vec3> outer_curve;       ///< the cut curve on the offset surface
   std::size_t inner_rim_points = 0;
   std::size_t outer_rim_points = 0;
   std::size_t wall_triangles = 0;
   std::size_t offset_triangles = 0; ///< of the offset before the outer cut
   std::size_t field_voxels = 0;
-  double resolution = 0.0;       ///< the cell size used
-  int sampling_step = 0;         ///< the sampling step used
+  double resolution = 0.0; ///< the cell size used
+  int sampling_step = 0;   ///< the sampling step used
   TemplateTimes times;
-  SolidReport solid;             ///< filled when options.check
-  TemplateFit fit;               ///< filled when options.check
+  SolidReport solid; ///< filled when options.check
+  TemplateFit fit;   ///< filled when options.check
 };
 
 /// Designs the initial template on `bone`. Throws InvalidInput for invalid options (naming the

@@ -26,9 +26,9 @@ struct GuideInspection {
   SolidReport solid;
   /// Per guide vertex: signed distance from the bone surface (mm), negative behind it (in the bone).
   std::vector<double> vertex_distance;
-  std::size_t vertices_in_bone = 0;     ///< vertices behind the bone surface by more than the tolerance
-  double deepest_in_bone = 0.0;         ///< mm
-  std::size_t seated_vertices = 0;      ///< vertices within the tolerance of `clearance` from the bone
+  std::size_t vertices_in_bone = 0; ///< vertices behind the bone surface by more than the tolerance
+  double deepest_in_bone = 0.0;     ///< mm
+  std::size_t seated_vertices = 0;  ///< vertices within the tolerance of `clearance` from the bone
   std::vector<BoreCheck> bores;
 
   /// Valid solid, nothing in the bone, every bore open.

@@ -17,7 +17,7 @@ struct TubeSpec {
   double outer_radius = 0.0;
   double length = 0.0;
   double offset = 0.0;
-  double depth = 0.0;  ///< planned drilling depth into the bone beyond the entry; 0: not planned
+  double depth = 0.0; ///< planned drilling depth into the bone beyond the entry; 0: not planned
 };
 
 /// A rule of a tube's numbers that is broken: the key relative to the tube ("outer_radius") and why

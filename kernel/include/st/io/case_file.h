@@ -14,9 +14,9 @@
 namespace st {
 
 struct CaseFile {
-  std::string path;                   ///< the case file itself
+  std::string path; ///< the case file itself
   std::string name;
-  std::string bone;                   ///< bone mesh path, resolved against the case folder
+  std::string bone; ///< bone mesh path, resolved against the case folder
   std::vector<Vec3> boundary_points;
   std::optional<Vec3> inside;
   double thickness = 0.0;
@@ -24,8 +24,8 @@ struct CaseFile {
   std::optional<double> resolution;
   std::optional<int> sampling_step;
   std::vector<TubeSpec> tubes;
-  std::optional<std::string> output;  ///< resolved against the case folder
-  std::vector<std::string> warnings;  ///< unknown keys and the like
+  std::optional<std::string> output; ///< resolved against the case folder
+  std::vector<std::string> warnings; ///< unknown keys and the like
 };
 
 inline constexpr const char* kCaseFormat = "surgical-template-case/1";

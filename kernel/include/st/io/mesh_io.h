@@ -61,14 +61,13 @@ struct ReadReport {
 /// recognised from the content ("ply" magic, binary STL size, "solid", OBJ statements). `report`,
 /// when given, is filled in. Throws InvalidInput as described at the top of this header, and for
 /// corrupt or truncated gzip data.
-TriangleMesh read_mesh(const std::string& path, ReadReport* report = nullptr,
-                       MeshFormat format = MeshFormat::Auto);
+TriangleMesh read_mesh(const std::string& path, ReadReport* report = nullptr, MeshFormat format = MeshFormat::Auto);
 
 /// Reads a mesh from `size` bytes at `data` (which need not be NUL-terminated), in `format`
 /// (MeshFormat::Auto recognises it from the content). `name` stands for the source in messages.
 /// Throws InvalidInput as described at the top of this header.
-TriangleMesh read_mesh_from_memory(const char* data, std::size_t size, MeshFormat format,
-                                   const std::string& name, ReadReport* report = nullptr);
+TriangleMesh read_mesh_from_memory(const char* data, std::size_t size, MeshFormat format, const std::string& name,
+                                   ReadReport* report = nullptr);
 
 /// Writes `mesh` as binary STL: `header` (cut to 80 bytes, padded with NULs), the triangle count,
 /// and per triangle its unit normal computed from the corners (zero for a degenerate triangle) and
@@ -77,7 +76,6 @@ TriangleMesh read_mesh_from_memory(const char* data, std::size_t size, MeshForma
 /// Preconditions: indices in range, all coordinates finite and within float32 range. Throws
 /// InvalidInput if they are not (before anything is written), or on any I/O error (with the path
 /// and the system's reason; the temporary file is removed).
-void write_stl(const TriangleMesh& mesh, const std::string& path,
-               const std::string& header = "surgical-template");
+void write_stl(const TriangleMesh& mesh, const std::string& path, const std::string& header = "surgical-template");
 
 } // namespace st

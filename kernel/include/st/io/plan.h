@@ -54,17 +54,17 @@ Vec3 convert_space(const Vec3& p, Space from, Space to);
 /// A planned drilling axis; sizes the plan does not give are empty.
 struct PlanAxis {
   std::string name;
-  std::string source;  ///< where it was read, for messages ("plan.csv:4", "a.mrk.json: markup 2")
+  std::string source; ///< where it was read, for messages ("plan.csv:4", "a.mrk.json: markup 2")
   Vec3 entry = Vec3::Zero();
-  Vec3 direction = Vec3::UnitZ();  ///< unit, into the bone
-  std::optional<double> depth;     ///< planned drilling depth into the bone beyond the entry
+  Vec3 direction = Vec3::UnitZ(); ///< unit, into the bone
+  std::optional<double> depth;    ///< planned drilling depth into the bone beyond the entry
   std::optional<double> inner_radius, outer_radius, length, offset;
 };
 
 struct Plan {
   std::string path;
-  std::string kind;                   ///< what the file was: "case", "markups" or "csv"
-  std::vector<Vec3> boundary_points;  ///< empty when the plan has no boundary
+  std::string kind;                  ///< what the file was: "case", "markups" or "csv"
+  std::vector<Vec3> boundary_points; ///< empty when the plan has no boundary
   std::optional<Vec3> inside;
   std::vector<PlanAxis> axes;
   std::vector<std::string> warnings;

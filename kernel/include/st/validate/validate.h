@@ -13,16 +13,16 @@ namespace st {
 struct SolidReport {
   std::size_t vertices = 0;
   std::size_t triangles = 0;
-  std::size_t border_edges = 0;          ///< half-edges with no partner (0 for a closed mesh)
-  std::size_t nonmanifold_edges = 0;     ///< edges used by more than two triangles
-  std::size_t misoriented_edges = 0;     ///< edges whose two triangles run the same way
-  std::size_t nonmanifold_vertices = 0;  ///< vertices whose triangles form more than one fan
-  std::size_t degenerate_triangles = 0;  ///< zero area or repeated corners
-  std::size_t self_intersections = 0;    ///< intersecting triangle pairs (counting stops at max_reported)
+  std::size_t border_edges = 0;         ///< half-edges with no partner (0 for a closed mesh)
+  std::size_t nonmanifold_edges = 0;    ///< edges used by more than two triangles
+  std::size_t misoriented_edges = 0;    ///< edges whose two triangles run the same way
+  std::size_t nonmanifold_vertices = 0; ///< vertices whose triangles form more than one fan
+  std::size_t degenerate_triangles = 0; ///< zero area or repeated corners
+  std::size_t self_intersections = 0;   ///< intersecting triangle pairs (counting stops at max_reported)
   std::size_t components = 0;
-  double area = 0.0;                     ///< mm^2
-  double volume = 0.0;                   ///< signed, mm^3
-  std::vector<Vec3> problem_points;      ///< a few places where something is wrong
+  double area = 0.0;                ///< mm^2
+  double volume = 0.0;              ///< signed, mm^3
+  std::vector<Vec3> problem_points; ///< a few places where something is wrong
 
   [[nodiscard]] bool closed() const { return border_edges == 0; }
   [[nodiscard]] bool manifold() const { return nonmanifold_edges == 0 && nonmanifold_vertices == 0; }

@@ -127,5 +127,4 @@ void split_pinched_vertices(TriangleMesh& mesh, const std::vector<Index>& candid
   }
 }
 
-
 } // namespace st::offset_detail

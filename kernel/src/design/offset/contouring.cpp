@@ -45,9 +45,9 @@ struct TetCase {
 
 constexpr std::array<TetCase, 16> make_tet_cases() {
   constexpr int lead[4][4] = {{0, 1, 2, 3}, {1, 0, 3, 2}, {2, 3, 0, 1}, {3, 2, 1, 0}};
-  constexpr int pair_order[16][4] = {
-      {}, {}, {}, {0, 1, 2, 3}, {}, {0, 2, 3, 1}, {1, 2, 0, 3}, {},
-      {}, {0, 3, 1, 2}, {1, 3, 2, 0}, {}, {2, 3, 0, 1}, {}, {}, {}};
+  constexpr int pair_order[16][4] = {{}, {}, {},           {0, 1, 2, 3}, {}, {0, 2, 3, 1}, {1, 2, 0, 3},
+                                     {}, {}, {0, 3, 1, 2}, {1, 3, 2, 0}, {}, {2, 3, 0, 1}, {},
+                                     {}, {}};
   std::array<TetCase, 16> cases{};
   for (int mask = 1; mask < 15; ++mask) {
     TetCase& c = cases[mask];
@@ -108,7 +108,7 @@ Contour DistanceBand::contour() const {
   struct BlockContour {
     SliceMasks contoured;
     SliceMasks crossed_cubes;
-    std::array<SliceMasks, 7> crossed_edges; // [direction - 1]
+    std::array<SliceMasks, 7> crossed_edges;  // [direction - 1]
     std::array<std::array<Index, 8>, 7> rank; // crossed edges before (direction, slice) in the block
     Index first = 0;                          // index of the block's first vertex
     Index count = 0;
@@ -313,6 +313,5 @@ Contour DistanceBand::contour() const {
       for (Index& v : t) v = remap[v];
   return result;
 }
-
 
 } // namespace st::offset_detail

@@ -146,8 +146,8 @@ void DistanceBand::rasterize(std::size_t t, std::int32_t b) {
   auto coordinate = [&](int axis, std::int64_t i) { return o[axis] + h * static_cast<double>(i - kIndexOffset); };
   const double inv_h = 1.0 / h;
   const double half = g.degenerate ? 0.0 : r / std::abs(n[w]); // |n[w]| >= 1/sqrt(3)
-  std::array<double, 3> slack{};        // how far outside edge k a node may be
-  std::array<double, 3> column_slack{}; // the same for a column's point on the plane
+  std::array<double, 3> slack{};                               // how far outside edge k a node may be
+  std::array<double, 3> column_slack{};                        // the same for a column's point on the plane
   for (int k = 0; k < 3; ++k) {
     slack[k] = r * patch_.side_slack[t][k] + 1e-6 * h;
     column_slack[k] = slack[k] + half * std::abs(side[k][w]);
@@ -195,10 +195,8 @@ void DistanceBand::rasterize(std::size_t t, std::int32_t b) {
           blk.front[l >> 6] &= ~bit;
           blk.spreading[l >> 6] &= ~bit;
         }
-        if (anchors(near, static_cast<std::int32_t>(t), d))
-          blk.anchoring[l >> 6] |= bit;
-        else
-          blk.anchoring[l >> 6] &= ~bit;
+        if (anchors(near, static_cast<std::int32_t>(t), d)) blk.anchoring[l >> 6] |= bit;
+        else blk.anchoring[l >> 6] &= ~bit;
       }
     }
   }
@@ -252,8 +250,8 @@ void DistanceBand::seed() {
 
 // ---- growing ------------------------------------------------------------------------------------------
 
-void DistanceBand::deposit(std::int32_t target, const std::uint64_t* masks, int first, int count,
-                           std::uint32_t layer, std::vector<std::int32_t>& touched) {
+void DistanceBand::deposit(std::int32_t target, const std::uint64_t* masks, int first, int count, std::uint32_t layer,
+                           std::vector<std::int32_t>& touched) {
   Block& blk = blocks_[target];
   std::uint64_t any = 0;
   for (int s = first; s < first + count; ++s) {
@@ -494,10 +492,8 @@ void DistanceBand::repair(std::vector<std::uint32_t>& queue, std::uint32_t layer
     if (!(static_cast<float>(d) < blk.dist[l])) continue;
     blk.dist[l] = static_cast<float>(d);
     blk.closest[l] = 8 * best.tri + best.nearest.feature;
-    if (anchors(best.nearest, best.tri, d))
-      blk.anchoring[l >> 6] |= bit;
-    else
-      blk.anchoring[l >> 6] &= ~bit;
+    if (anchors(best.nearest, best.tri, d)) blk.anchoring[l >> 6] |= bit;
+    else blk.anchoring[l >> 6] &= ~bit;
     if (!(blk.spreading[l >> 6] & bit) && spreads(best.nearest, best.tri, d)) {
       blk.spreading[l >> 6] |= bit;
       blk.front[l >> 6] |= bit;
@@ -586,6 +582,5 @@ void DistanceBand::grow() {
     repair(queue, layer);
   }
 }
-
 
 } // namespace st::offset_detail

@@ -32,7 +32,7 @@ struct BandParams {
   double seed_radius = 1.0; // exact distances within this radius of each triangle
   double margin = 0.0;      // front_only: how far behind the border a node may lie and anchor
   bool front_only = true;
-  double node_cap = 0.0;    // refuse to allocate more block nodes than this
+  double node_cap = 0.0; // refuse to allocate more block nodes than this
   std::size_t expected_nodes = 0;
 };
 
@@ -91,8 +91,7 @@ private:
   }
   [[nodiscard]] Vec3 node_position(std::int32_t b, int l) const {
     const Block& blk = blocks_[b];
-    return node_position(8 * blk.coord[0] + (l & 7), 8 * blk.coord[1] + ((l >> 3) & 7),
-                         8 * blk.coord[2] + (l >> 6));
+    return node_position(8 * blk.coord[0] + (l & 7), 8 * blk.coord[1] + ((l >> 3) & 7), 8 * blk.coord[2] + (l >> 6));
   }
   /// The contoured value of a node: distances within kIsoValueMargin * h of T move to T + margin.
   [[nodiscard]] double field_value(float d) const {
@@ -110,8 +109,8 @@ private:
   void spread_front(std::int32_t b, std::uint32_t layer, std::vector<std::int32_t>& touched);
   void deposit(std::int32_t target, const std::uint64_t* masks, int first, int count, std::uint32_t layer,
                std::vector<std::int32_t>& touched);
-  void evaluate_block(std::int32_t b, const std::vector<std::uint32_t>& nodes, std::size_t begin,
-                      std::size_t end, Scratch& scratch, std::vector<Evaluation>& out) const;
+  void evaluate_block(std::int32_t b, const std::vector<std::uint32_t>& nodes, std::size_t begin, std::size_t end,
+                      Scratch& scratch, std::vector<Evaluation>& out) const;
   void fill_apron(std::int32_t b, int y0, int y1, int z0, int z1, Scratch& scratch) const;
   [[nodiscard]] Closest closest_among(const Vec3& x, const std::int32_t* candidates, int count, Scratch& scratch) const;
   void repair(std::vector<std::uint32_t>& queue, std::uint32_t layer);

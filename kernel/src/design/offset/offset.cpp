@@ -62,8 +62,7 @@ OffsetResult offset_surface(const TriangleMesh& surface, const OffsetOptions& op
   if (options.cell_size > tol::kMaxCellSizePerOffset * distance)
     throw InvalidInput("offset: the cell size " + detail::mm(options.cell_size) + " is over half the distance " +
                        detail::mm(distance));
-  if (std::isnan(options.max_cells) || options.max_cells <= 0.0)
-    throw InvalidInput("offset: max_cells must be > 0");
+  if (std::isnan(options.max_cells) || options.max_cells <= 0.0) throw InvalidInput("offset: max_cells must be > 0");
   if (surface.empty()) throw InvalidInput("offset: the surface has no triangles");
   if (surface.triangles.size() >= (std::size_t{1} << 28))
     throw InvalidInput("offset: the surface has more than 2^28 triangles");

@@ -77,10 +77,12 @@ Patch build_patch(const TriangleMesh& mesh, bool with_pseudo_normals) {
     std::vector<Index> fill(offsets.begin(), offsets.end() - 1);
     for (std::size_t c = 0; c < 3 * nf; ++c) items[fill[row_of(c)]++] = static_cast<Index>(c / 3);
   };
-  build_rows(mesh.positions.size(), [&](std::size_t c) { return mesh.triangles[c / 3][c % 3]; },
-             patch.vertex_face_offsets, patch.vertex_faces);
-  build_rows(edge_uses.size(), [&](std::size_t c) { return static_cast<Index>(patch.edge_of[c]); },
-             patch.edge_face_offsets, patch.edge_faces);
+  build_rows(
+      mesh.positions.size(), [&](std::size_t c) { return mesh.triangles[c / 3][c % 3]; }, patch.vertex_face_offsets,
+      patch.vertex_faces);
+  build_rows(
+      edge_uses.size(), [&](std::size_t c) { return static_cast<Index>(patch.edge_of[c]); }, patch.edge_face_offsets,
+      patch.edge_faces);
 
   patch.side_slack.assign(nf, {1.0f, 1.0f, 1.0f});
   for (std::size_t t = 0; t < nf; ++t) {
@@ -91,7 +93,8 @@ Patch build_patch(const TriangleMesh& mesh, bool with_pseudo_normals) {
       const Index v = mesh.triangles[t][k];
       double c = 1.0;
       for (Index j = patch.vertex_face_offsets[v]; j < patch.vertex_face_offsets[v + 1]; ++j)
-        if (!patch.triangles[patch.vertex_faces[j]].degenerate) c = std::min(c, n.dot(patch.face_normals[patch.vertex_faces[j]]));
+        if (!patch.triangles[patch.vertex_faces[j]].degenerate)
+          c = std::min(c, n.dot(patch.face_normals[patch.vertex_faces[j]]));
       lowest[k] = c;
     }
     for (int k = 0; k < 3; ++k) {
@@ -121,6 +124,5 @@ Patch build_patch(const TriangleMesh& mesh, bool with_pseudo_normals) {
   }
   return patch;
 }
-
 
 } // namespace st::offset_detail

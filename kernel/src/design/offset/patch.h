@@ -25,24 +25,24 @@ namespace st::offset_detail {
 struct Patch {
   const TriangleMesh* mesh = nullptr;
   std::vector<TriangleGeometry> triangles;
-  std::vector<Vec3> face_normals;   // unit, zero for degenerate triangles
-  std::vector<std::array<Vec3, 3>> side_normals; // unit outward normals of the planes through each
-                                                 // edge perpendicular to the triangle (edge k: k, k+1)
-  std::vector<std::int32_t> edge_of; // 3 per triangle: edge k runs from corner k to corner k+1
-  std::vector<Vec3> edge_normals;   // unit sum of the adjacent face normals
-  std::vector<Vec3> vertex_normals; // unit angle-weighted sum of the incident face normals
+  std::vector<Vec3> face_normals;                       // unit, zero for degenerate triangles
+  std::vector<std::array<Vec3, 3>> side_normals;        // unit outward normals of the planes through each
+                                                        // edge perpendicular to the triangle (edge k: k, k+1)
+  std::vector<std::int32_t> edge_of;                    // 3 per triangle: edge k runs from corner k to corner k+1
+  std::vector<Vec3> edge_normals;                       // unit sum of the adjacent face normals
+  std::vector<Vec3> vertex_normals;                     // unit angle-weighted sum of the incident face normals
   std::vector<Index> vertex_face_offsets, vertex_faces; // triangles around each vertex (rows)
   std::vector<Index> edge_face_offsets, edge_faces;     // triangles along each edge (rows)
-  std::vector<std::uint8_t> border_edge;   // 1 for edges used by one triangle
-  std::vector<std::uint8_t> border_vertex; // 1 for vertices of such edges
-  std::vector<std::array<float, 3>> side_slack; // per triangle and edge k: how far outside the
-                                                // edge's plane (in units of the distance) the
-                                                // points whose closest point is on the edge or its
-                                                // end points can lie: 1 on the border, else the
-                                                // sine of the largest angle between this triangle's
-                                                // normal and those around the edge's end points
+  std::vector<std::uint8_t> border_edge;                // 1 for edges used by one triangle
+  std::vector<std::uint8_t> border_vertex;              // 1 for vertices of such edges
+  std::vector<std::array<float, 3>> side_slack;         // per triangle and edge k: how far outside the
+                                                        // edge's plane (in units of the distance) the
+                                                        // points whose closest point is on the edge or its
+                                                        // end points can lie: 1 on the border, else the
+                                                        // sine of the largest angle between this triangle's
+                                                        // normal and those around the edge's end points
   double area = 0.0;
-  double border_length = 0.0;       // total length of edges used by one triangle
+  double border_length = 0.0; // total length of edges used by one triangle
 
   /// Pseudo-normal of the closest feature (Baerentzen & Aanaes): a point lies behind the patch when
   /// its offset from the closest point has a negative dot product with it.

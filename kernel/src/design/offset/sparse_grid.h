@@ -62,15 +62,15 @@ struct Block {
   std::array<float, kBlockNodes> dist;           // unsigned distance, mm (valid where computed)
   std::array<std::int32_t, kBlockNodes> closest; // 8 * triangle + Feature, -1 where not computed
   SliceMasks computed;
-  SliceMasks pending;                            // candidates of the layer being built
-  SliceMasks front;                              // nodes that spread in the next layer
-  SliceMasks spreading;                          // nodes that spread (all layers)
-  SliceMasks anchoring;                          // nodes whose cubes are contoured (see contour())
-  SliceMasks queued;                             // nodes waiting for repair
-  std::array<std::int32_t, 27> neighbours;       // block indices, -1 where absent
-  std::array<std::int64_t, 3> coord;             // block coordinates (stored index >> 3)
-  std::uint32_t pending_stamp;                   // layer in which the block was listed for candidates
-  std::uint32_t front_stamp;                     // layer in which the block was listed for the front
+  SliceMasks pending;                      // candidates of the layer being built
+  SliceMasks front;                        // nodes that spread in the next layer
+  SliceMasks spreading;                    // nodes that spread (all layers)
+  SliceMasks anchoring;                    // nodes whose cubes are contoured (see contour())
+  SliceMasks queued;                       // nodes waiting for repair
+  std::array<std::int32_t, 27> neighbours; // block indices, -1 where absent
+  std::array<std::int64_t, 3> coord;       // block coordinates (stored index >> 3)
+  std::uint32_t pending_stamp;             // layer in which the block was listed for candidates
+  std::uint32_t front_stamp;               // layer in which the block was listed for the front
 };
 
 inline std::uint64_t block_key(std::int64_t bx, std::int64_t by, std::int64_t bz) {
@@ -149,6 +149,5 @@ private:
   int shift_ = 0;
   std::size_t size_ = 0;
 };
-
 
 } // namespace st::offset_detail

@@ -42,8 +42,7 @@ TopoDS_Shape make_sleeve_shape(const TubeSpec& tube);
 /// Throws InvalidInput for a null shape or a deflection that is not finite and > 0; GeometryError if
 /// OpenCASCADE fails, a face has no triangulation, or the welded mesh is not closed and consistently
 /// oriented with a positive volume (e.g. the shape is an open shell or a single face).
-TriangleMesh tessellate_shape(const TopoDS_Shape& shape, double linear_deflection,
-                              double angular_deflection_rad = 0.5);
+TriangleMesh tessellate_shape(const TopoDS_Shape& shape, double linear_deflection, double angular_deflection_rad = 0.5);
 
 /// The shape as OpenCASCADE BREP text (BRepTools::Write), without triangulation, in format version 2
 /// so that OpenCASCADE releases before 7.6 (other FreeCAD builds) read it too. Read it back with
