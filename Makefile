@@ -34,7 +34,7 @@ test: format-check test-main test-sanitize test-fuzz test-setup
 # The C++ sources as clang-format (.clang-format) writes them; `make format` rewrites them so.
 FORMATTED = $(shell git ls-files 'kernel/*.h' 'kernel/*.cpp' 'tests/*.h' 'tests/*.cpp' 'bench/*.h' 'bench/*.cpp' | grep -v /compat/)
 format-check: deps
-	clang-format --dry-run --Werror $(FORMATTED)
+	@clang-format --dry-run --Werror $(FORMATTED) && echo "format-check: $(words $(FORMATTED)) files as clang-format writes them"
 
 format: deps
 	clang-format -i $(FORMATTED)
