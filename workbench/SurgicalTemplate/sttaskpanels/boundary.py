@@ -1,6 +1,7 @@
 """The boundary task panel: control points of a boundary on the bone, clicked, dragged, inserted and
 deleted in the 3D view with the curve through them shown live (its drawing and mouse and keys are in
-boundary_view); OK creates the boundary or writes the edited points back, recorded and undoable."""
+boundary_view); OK creates the boundary or writes the edited points back, recorded and undoable.
+Its form is Resources/ui/boundary.ui."""
 import FreeCAD as App
 import FreeCADGui as Gui
 import Part
@@ -8,7 +9,7 @@ from PySide import QtGui
 
 from stobjects.boundary import Boundary
 from sttaskpanels.boundary_view import Overlay, PanelEvents
-from stutils.gui_utils import ref, run, view_of
+from stutils.gui_utils import load_form, ref, run, view_of
 
 
 def edit_boundary(boundary):
@@ -67,37 +68,22 @@ class BoundaryPanel:
         self.dragging = None  # {index, from, press, moved} while a point is dragged
         self.curve, self.error, self.preview = [], "", None
         self.done = False
-        self.form = QtGui.QWidget()
-        self.form.setWindowTitle("Edit boundary" if boundary is not None else "Boundary")
-        layout = QtGui.QVBoxLayout(self.form)
+        self.form = load_form("boundary")
+        if boundary is not None:
+            self.form.setWindowTitle("Edit boundary")
         where = f"'{boundary.Label}' on '{bone.Label}'" if boundary is not None else f"'{bone.Label}'"
-        text = QtGui.QLabel(f"Points around the region on {where}, in order. Click on the bone: add a point "
-                            "(after the selected one). Drag a point: move it. Click a point: select it; "
-                            "Ctrl+click on the bone: move the selected point there. Delete: remove the "
-                            "selected points; Ctrl+Z: undo. Enter: OK.")
-        text.setWordWrap(True)
-        layout.addWidget(text)
-        self.nearest = QtGui.QCheckBox("Insert into nearest segment")
-        self.nearest.setToolTip("With no point selected, a click adds its point between the two neighbours "
-                                "whose segment of the loop it is nearest to; unchecked: at the end")
+        self.form.text.setText(f"Points around the region on {where}, in order. Click on the bone: add a point "
+                               "(after the selected one). Drag a point: move it. Click a point: select it; "
+                               "Ctrl+click on the bone: move the selected point there. Delete: remove the "
+                               "selected points; Ctrl+Z: undo. Enter: OK.")
+        self.nearest = self.form.nearest
         self.nearest.setChecked(boundary is not None)
-        layout.addWidget(self.nearest)
-        self.list = QtGui.QListWidget()
-        self.list.setSelectionMode(QtGui.QAbstractItemView.ExtendedSelection)
+        self.list = self.form.points
         self.list.itemSelectionChanged.connect(self.redraw)
-        layout.addWidget(self.list)
-        row = QtGui.QHBoxLayout()
-        for label, slot, tip in (("Remove selected", self.remove_selected, "Remove the selected points (Delete)"),
-                                 ("Undo", self.undo, "Undo the last change of the points (Ctrl+Z)"),
-                                 ("Clear", self.clear, "Remove all points")):
-            button = QtGui.QPushButton(label)
-            button.setToolTip(tip)
-            button.clicked.connect(slot)
-            row.addWidget(button)
-        layout.addLayout(row)
-        self.status = QtGui.QLabel("")
-        self.status.setWordWrap(True)
-        layout.addWidget(self.status)
+        self.form.remove.clicked.connect(self.remove_selected)
+        self.form.undo.clicked.connect(self.undo)
+        self.form.clear.clicked.connect(self.clear)
+        self.status = self.form.status
         self.view = view_of(bone.Document)
         self.overlay = Overlay(self.view)
         self.events = PanelEvents(self)

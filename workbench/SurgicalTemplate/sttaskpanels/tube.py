@@ -1,12 +1,11 @@
 """The drilling tube task panel: the entry clicked on the bone, the direction from the surface normal,
 the view or a second point, sizes from a sleeve preset or typed in; OK adds the tube through recorded
-code."""
+code. Its form is Resources/ui/tube.ui."""
 import FreeCAD as App
 import FreeCADGui as Gui
-from PySide import QtGui
 
 from stfunctions.presets import sleeve_presets
-from stutils.gui_utils import preference, ref, run, view_of
+from stutils.gui_utils import load_form, preference, ref, run, view_of
 
 
 class TubePanel:
@@ -15,40 +14,24 @@ class TubePanel:
     Sizes from a sleeve preset or typed in."""
 
     last = None  # the open panel, for scripts and tests
-    DIRECTIONS = ("Surface normal at the entry", "View direction", "Second point (click it)")
 
     def __init__(self, bone, guide):
         TubePanel.last = self
         self.bone, self.guide = bone, guide
-        self.form = QtGui.QWidget()
-        self.form.setWindowTitle("Drilling tube")
-        grid = QtGui.QFormLayout(self.form)
+        self.form = load_form("tube")
         self.presets = sleeve_presets()
-        self.preset = QtGui.QComboBox()
-        self.preset.addItem("(custom sizes)")
+        self.preset = self.form.preset
         for p in self.presets:
             self.preset.addItem(f"{p['name']}: {p['description']}")
         self.preset.currentIndexChanged.connect(self.apply_preset)
-        grid.addRow("Sleeve preset", self.preset)
         self.fields = {}
-        for key, label, value in (("inner", "Inner radius (mm)", preference("InnerRadius", 1.1)),
-                                  ("outer", "Outer radius (mm)", preference("OuterRadius", 2.0)),
-                                  ("length", "Length (mm)", preference("Length", 5.0)),
-                                  ("offset", "Offset (mm)", preference("Offset", 3.0))):
-            box = QtGui.QDoubleSpinBox()
-            box.setRange(0.0, 100.0)
-            box.setDecimals(2)
-            box.setValue(value)
-            grid.addRow(label, box)
-            self.fields[key] = box
-        self.mode = QtGui.QComboBox()
-        self.mode.addItems(list(self.DIRECTIONS))
+        for key, default in (("inner", preference("InnerRadius", 1.1)), ("outer", preference("OuterRadius", 2.0)),
+                             ("length", preference("Length", 5.0)), ("offset", preference("Offset", 3.0))):
+            self.fields[key] = getattr(self.form, key)
+            self.fields[key].setValue(default)
+        self.mode = self.form.mode
         self.mode.currentIndexChanged.connect(lambda _: self.reset())
-        grid.addRow("Direction", self.mode)
-        self.entry = QtGui.QLabel("click the entry point on the bone")
-        grid.addRow("Entry", self.entry)
-        self.axis = QtGui.QLabel("")
-        grid.addRow("Axis", self.axis)
+        self.entry, self.axis = self.form.entry, self.form.axis
         self.picked = None  # (entry, direction into the bone, depth or 0)
         self.view = view_of(bone.Document if bone is not None else App.ActiveDocument)
         self.callback = self.view.addEventCallback("SoMouseButtonEvent", self.on_mouse)

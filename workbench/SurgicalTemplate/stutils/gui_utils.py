@@ -1,5 +1,6 @@
 """What the workbench's commands and task panels share: icons, preferences, recorded commands,
-the selection, references to objects in recorded code, the 3D view of a document."""
+the selection, references to objects in recorded code, the 3D view of a document, the task panels'
+Qt Designer forms."""
 import os
 
 import FreeCAD as App
@@ -60,3 +61,7 @@ def view_of(doc):
         view = views[0] if views else Gui.ActiveDocument.ActiveView
     return view
 
+
+def load_form(name):
+    """A task panel's form from its Qt Designer file Resources/ui/<name>.ui."""
+    return Gui.PySideUic.loadUi(os.path.join(SurgicalTemplate_paths.UI, f"{name}.ui"))
