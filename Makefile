@@ -21,8 +21,7 @@ FREECAD_MOD ?= $(if $(FREECAD_USER_DATA),$(FREECAD_USER_DATA),$(HOME)/.local/sha
 install: build
 	rm -rf $(FREECAD_MOD)/SurgicalTemplate
 	mkdir -p $(FREECAD_MOD)/SurgicalTemplate/icons
-	cp workbench/SurgicalTemplate/*.py workbench/SurgicalTemplate/*.ui workbench/SurgicalTemplate/package.xml \
-	   $(FREECAD_MOD)/SurgicalTemplate/
+	cp -r workbench/SurgicalTemplate/. $(FREECAD_MOD)/SurgicalTemplate/
 	cp icons/*.svg $(FREECAD_MOD)/SurgicalTemplate/icons/
 	cp $(BUILD)/python/stkernel*.so $(FREECAD_MOD)/SurgicalTemplate/
 	@echo "Surgical Template installed in $(FREECAD_MOD)/SurgicalTemplate"

@@ -10,7 +10,6 @@ sys.path.append("/usr/lib/freecad-python3/lib")
 import FreeCAD as App  # noqa: E402
 
 import SurgicalTemplate as st  # noqa: E402  (found in the Mod folder FreeCAD scanned)
-import st_drawing  # noqa: E402
 
 case, out = os.environ["ST_CASE"], os.environ["ST_OUT"]
 result = {"gui_up": bool(App.GuiUp)}
@@ -24,7 +23,7 @@ result["tubes"] = [{"name": t.Label, "offset": t.Offset.Value, "length": t.Lengt
                    for t in guide.Tubes]
 
 start = time.time()
-drawing = st_drawing.make_drawing(guide, os.path.join(out, "guide-drawing.pdf"))
+drawing = st.make_drawing(guide, os.path.join(out, "guide-drawing.pdf"))
 result["seconds"] = time.time() - start
 page = drawing["page"]
 result["files"] = {k: drawing[k] for k in ("pdf", "svg", "protocol_path")}
@@ -56,7 +55,7 @@ doc.undo()
 result["objects_after_undo"] = {"before": count, "after": len(doc.Objects),
                                 "pages": len([o for o in doc.Objects if o.TypeId == "TechDraw::DrawPage"])}
 doc.redo()
-st_drawing.make_drawing(guide, os.path.join(out, "again"), pdf=False, svg=False)
+st.make_drawing(guide, os.path.join(out, "again"), pdf=False, svg=False)
 result["pages_after_second_drawing"] = len([o for o in doc.Objects if o.TypeId == "TechDraw::DrawPage"])
 
 # Clear errors.
@@ -76,13 +75,13 @@ class _EmptyGuide:
 
 
 errors = {}
-for tag, call in (("paper", lambda: st_drawing.make_drawing(guide, os.path.join(out, "x"), paper="B7")),
-                  ("not_a_guide", lambda: st_drawing.make_drawing(guide.Shell, os.path.join(out, "x"))),
+for tag, call in (("paper", lambda: st.make_drawing(guide, os.path.join(out, "x"), paper="B7")),
+                  ("not_a_guide", lambda: st.make_drawing(guide.Shell, os.path.join(out, "x"))),
                   ("empty", None)):
     if call is None:
         empty = doc.addObject("Mesh::FeaturePython", "EmptyGuide")
         _EmptyGuide(empty, guide)
-        call = (lambda e=empty: st_drawing.make_drawing(e, os.path.join(out, "x"), pdf=False, svg=False))
+        call = (lambda e=empty: st.make_drawing(e, os.path.join(out, "x"), pdf=False, svg=False))
     try:
         call()
         errors[tag] = None

@@ -241,7 +241,7 @@ def edit_drawn_boundary(doc, boundary, bone):
     point dragged to a new place, one added by a click near a segment, one removed with the Delete key,
     OK; then Undo. Another edit is cancelled. All mouse and key input goes through Qt events."""
     import st_commands
-    import st_panels
+    from sttaskpanels.boundary_view import Overlay
     r = {}
     for o in doc.Objects:  # the guide over the bone would hide the view of the points
         if getattr(getattr(o, "Proxy", None), "kind", "") == "Guide":
@@ -340,9 +340,9 @@ def edit_drawn_boundary(doc, boundary, bone):
     # The markers, one selected, in a screenshot.
     panel.select(0)
     shot("gui-edit-boundary")
-    r["marker_pixels"] = colour_pixels(result["gui-edit-boundary"]["path"], st_panels._Overlay.POINT)
-    r["selected_pixels"] = colour_pixels(result["gui-edit-boundary"]["path"], st_panels._Overlay.SELECTED)
-    r["curve_pixels"] = colour_pixels(result["gui-edit-boundary"]["path"], st_panels._Overlay.CURVE)
+    r["marker_pixels"] = colour_pixels(result["gui-edit-boundary"]["path"], Overlay.POINT)
+    r["selected_pixels"] = colour_pixels(result["gui-edit-boundary"]["path"], Overlay.SELECTED)
+    r["curve_pixels"] = colour_pixels(result["gui-edit-boundary"]["path"], Overlay.CURVE)
     panel.select()
 
     ok = task_button(QtGui.QDialogButtonBox.Ok)

@@ -10,12 +10,12 @@ class SurgicalTemplateWorkbench(Gui.Workbench):
 
     def __init__(self):
         import SurgicalTemplate_paths  # noqa: F401  (the folder of this file, for the icon below)
-        self.__class__.Icon = os.path.join(SurgicalTemplate_paths.HERE, "icons", "SurgicalTemplate_Workbench.svg")
+        self.__class__.Icon = os.path.join(SurgicalTemplate_paths.ICONS, "SurgicalTemplate_Workbench.svg")
 
     def Initialize(self):
-        import st_commands
+        from stcommands import toolbar
 
-        names = st_commands.register()
+        names = toolbar.register()
         self.appendToolbar("Surgical Template", names)
         self.appendMenu("Surgical Template", names)
 
@@ -29,7 +29,7 @@ Gui.addWorkbench(SurgicalTemplateWorkbench())
 def _add_preferences():
     import SurgicalTemplate_paths
 
-    Gui.addPreferencePage(os.path.join(SurgicalTemplate_paths.HERE, "preferences.ui"), "Surgical Template")
+    Gui.addPreferencePage(os.path.join(SurgicalTemplate_paths.UI, "preferences.ui"), "Surgical Template")
 
 
 _add_preferences()

@@ -1,4 +1,7 @@
-"""Where the workbench is installed (InitGui.py runs without __file__ in FreeCAD 0.20)."""
+"""Where the workbench is installed (InitGui.py runs without __file__ in FreeCAD 0.20), its icons and
+its Qt Designer forms."""
 import os
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+ICONS = os.path.join(HERE, "icons")
+UI = os.path.join(HERE, "Resources", "ui")

@@ -1,17 +1,20 @@
 """What the workbench's commands and task panels share: icons, preferences, recorded commands,
-the selection, references to objects in recorded code, the 3D view of a document."""
+the selection, references to objects in recorded code, the 3D view of a document, the task panels'
+Qt Designer forms."""
 import os
 
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
-ICONS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "icons")
+import SurgicalTemplate_paths
+from stobjects.base import kind_of
+
 PREFS = "User parameter:BaseApp/Preferences/Mod/SurgicalTemplate"
 
 
 def icon(name):
-    return os.path.join(ICONS, f"SurgicalTemplate_{name}.svg")
+    return os.path.join(SurgicalTemplate_paths.ICONS, f"SurgicalTemplate_{name}.svg")
 
 
 def preference(name, default):
@@ -42,21 +45,14 @@ def run(title, code):
 
 def selected(kind):
     """Selected objects of a kind: 'Bone' (a plain mesh), or a proxy kind (Boundary, Template, ...)."""
-    out = []
-    for o in Gui.Selection.getSelection():
-        proxy_kind = getattr(getattr(o, "Proxy", None), "kind", None)
-        if kind == "Bone" and o.TypeId == "Mesh::Feature":
-            out.append(o)
-        elif proxy_kind == kind:
-            out.append(o)
-    return out
+    return [o for o in Gui.Selection.getSelection() if kind_of(o) == kind]
 
 
 def ref(obj):
     return f"App.getDocument({obj.Document.Name!r}).getObject({obj.Name!r})"
 
 
-def _view_of(doc):
+def view_of(doc):
     """The 3D view of a document: its active view if that is one."""
     gui_doc = Gui.getDocument(doc.Name)
     view = gui_doc.ActiveView
@@ -64,3 +60,8 @@ def _view_of(doc):
         views = gui_doc.mdiViewsOfType("Gui::View3DInventor")
         view = views[0] if views else Gui.ActiveDocument.ActiveView
     return view
+
+
+def load_form(name):
+    """A task panel's form from its Qt Designer file Resources/ui/<name>.ui."""
+    return Gui.PySideUic.loadUi(os.path.join(SurgicalTemplate_paths.UI, f"{name}.ui"))

@@ -1,0 +1,69 @@
+"""Case files (docs/CASE-FORMAT.md) in and out, and the STL of a template or guide."""
+import json
+import os
+
+import FreeCAD as App
+
+import st_bridge
+from stmake.objects import make_bone, make_boundary, make_guide, make_template, make_tube
+from stmake.step import Step
+
+
+def export(obj, path):
+    """Writes the mesh of a template or guide as binary STL (written whole or not at all)."""
+    if not hasattr(obj, "Mesh"):
+        raise ValueError(f"{obj.Label}: not a mesh object")
+    if obj.Mesh.CountFacets == 0:
+        raise ValueError(f"{obj.Label}: the mesh is empty (recompute it first)")
+    st_bridge.kernel().write_stl(*st_bridge.mesh_to_arrays(obj.Mesh), path)
+    return path
+
+
+def load_case(path, doc=None):
+    """Builds the whole parametric tree of a case file (docs/CASE-FORMAT.md) and returns the guide."""
+    case = st_bridge.kernel().read_case(path)
+    doc = doc or App.newDocument(case["name"].replace("-", "_") or "SurgicalTemplate")
+    with Step(doc, "Open case"):
+        bone = make_bone(case["bone"], doc)
+        boundary = make_boundary(bone, case["boundary_points"], case["inside"])
+        shell = make_template(boundary, case["thickness"], case["clearance"], case["resolution"] or 0.0,
+                              case["sampling_step"] or 0)
+        tubes = [make_tube(t["entry"], t["direction"], t["inner_radius"], t["outer_radius"], t["length"],
+                           t["offset"], name=t["name"], doc=doc, depth=t["depth"]) for t in case["tubes"]]
+        guide = make_guide(shell, tubes)
+        guide.Label = case["name"] or "SurgicalGuide"
+    doc.recompute()
+    return guide
+
+
+def save_case(guide, path, output=None):
+    """Writes the guide's plan as a case file, so that load_case(save_case(g)) rebuilds it."""
+    shell = guide.Shell
+    boundary = shell.Boundary
+    bone = boundary.Bone
+    source = getattr(bone, "SourceFile", "")
+    if not source:
+        raise ValueError(f"{bone.Label}: the bone was not read from a file; export it first")
+    folder = os.path.dirname(os.path.abspath(path))
+    case = {
+        "format": st_bridge.kernel().CASE_FORMAT,
+        "name": guide.Label,
+        "bone": os.path.relpath(source, folder),
+        "boundary": {"points": [st_bridge.vec(p) for p in boundary.Points]},
+        "template": {"thickness": float(shell.Thickness.Value), "clearance": float(shell.Clearance.Value)},
+        "tubes": [t.Proxy.spec(t) for t in guide.Tubes],
+    }
+    if boundary.UseInside:
+        case["boundary"]["inside"] = st_bridge.vec(boundary.Inside)
+    if shell.Resolution.Value > 0:
+        case["template"]["resolution"] = float(shell.Resolution.Value)
+    if shell.SamplingStep > 0:
+        case["template"]["sampling_step"] = int(shell.SamplingStep)
+    if output:
+        case["output"] = output
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        json.dump(case, f, indent=2)
+        f.write("\n")
+    os.replace(tmp, path)
+    return path

@@ -1,0 +1,132 @@
+"""Making the parametric tree step by step: the bone, a boundary on it, the template shell, drilling
+tubes and the guide. Each call is one undo step; lengths in mm. View providers are attached when
+FreeCAD's GUI is up."""
+import os
+
+import FreeCAD as App
+
+import st_bridge
+from stfunctions import presets
+from stmake.step import Step, document
+from stobjects.boundary import Boundary
+from stobjects.guide import Guide
+from stobjects.template import Template
+from stobjects.tube import Tube
+from stviewproviders.view_feature import ViewProvider
+
+
+def _view(obj, icon):
+    if App.GuiUp:
+        ViewProvider(obj.ViewObject, icon)
+
+
+def vectors(points):
+    return [App.Vector(*map(float, p)) for p in points]
+
+
+def make_bone(source, doc=None, name="Bone"):
+    """The bone: a Mesh feature from a mesh file (STL/PLY/OBJ, also .gz) or a Mesh.Mesh."""
+    doc = document(doc)
+    with Step(doc, "Import bone"):
+        obj = doc.addObject("Mesh::Feature", name)
+        if isinstance(source, str):
+            obj.Mesh = st_bridge.arrays_to_mesh(*st_bridge.read_mesh_file(source))
+            obj.addProperty("App::PropertyFile", "SourceFile", "Bone", "The mesh file the bone was read from")
+            obj.SourceFile = os.path.abspath(source)
+            obj.addProperty("App::PropertyEnumeration", "CoordinateSystem", "Bone",
+                            "The bone's frame (3D Slicer: LPS unless the file's header says SPACE=RAS); plans "
+                            "in the other frame are converted on import")
+            obj.CoordinateSystem = ["LPS", "RAS"]
+            obj.CoordinateSystem = st_bridge.kernel().mesh_file_space(source)
+            obj.Label = os.path.basename(source).split(".")[0]
+        else:
+            obj.Mesh = source
+    if App.GuiUp:
+        obj.ViewObject.ShapeColor = (0.93, 0.89, 0.80)
+    return obj
+
+
+def make_boundary(bone, points, inside=None, name="Boundary"):
+    """A closed boundary curve on `bone` through control points (mm), optionally with a point inside
+    the region to keep."""
+    doc = bone.Document
+    with Step(doc, "Create boundary"):
+        obj = doc.addObject("Part::FeaturePython", name)
+        Boundary(obj)
+        obj.Bone = bone
+        obj.Points = vectors(points)
+        if inside is not None:
+            obj.Inside = App.Vector(*map(float, inside))
+            obj.UseInside = True
+        _view(obj, "SurgicalTemplate_Boundary.svg")
+    return obj
+
+
+def make_template(boundary, thickness=2.5, clearance=0.0, resolution=0.0, sampling_step=0, name="Template"):
+    """The template shell of a boundary."""
+    doc = boundary.Document
+    with Step(doc, "Create template"):
+        obj = doc.addObject("Mesh::FeaturePython", name)
+        Template(obj)
+        obj.Boundary = boundary
+        obj.Thickness = thickness
+        obj.Clearance = clearance
+        obj.Resolution = resolution or 0.0
+        obj.SamplingStep = int(sampling_step or 0)
+        _view(obj, "SurgicalTemplate_Template.svg")
+    return obj
+
+
+def make_tube(entry, direction, inner_radius=None, outer_radius=None, length=None, offset=None, name="Tube",
+              doc=None, preset=None, depth=0.0, guide=None):
+    """A drilling tube (guide sleeve) on a planned axis: entry at the bone, direction into it. Sizes
+    not given come from `preset` (a name from sleeve_presets() or one of its dicts; the tube's Preset
+    names it when its sizes are the preset's); depth is the planned drilling depth beyond the entry,
+    for the drill protocol. With `guide`, the tube is added to it in the same undo step."""
+    doc = guide.Document if guide is not None else document(doc)
+    sizes = presets.preset(preset) if preset is not None else {}
+    given = {"inner_radius": inner_radius, "outer_radius": outer_radius, "length": length, "offset": offset}
+    for key, value in given.items():
+        if value is None:
+            if key == "offset" and not sizes:
+                given[key] = 0.0
+            elif key not in sizes:
+                raise ValueError(f"{name}: no {key} given and no sleeve preset to take it from")
+            else:
+                given[key] = sizes[key]
+    with Step(doc, "Add drilling tube"):
+        obj = doc.addObject("Part::FeaturePython", "Tube")
+        Tube(obj)
+        obj.Label = name
+        obj.Entry = App.Vector(*map(float, entry))
+        obj.Direction = App.Vector(*map(float, direction))
+        obj.InnerRadius, obj.OuterRadius = given["inner_radius"], given["outer_radius"]
+        obj.Length, obj.Offset = given["length"], given["offset"]
+        obj.Depth = depth or 0.0
+        if sizes.get("name") and all(abs(given[k] - sizes[k]) < 1e-9 for k in given):
+            obj.Preset = sizes["name"]
+        _view(obj, "SurgicalTemplate_Tube.svg")
+        if guide is not None:
+            guide.Tubes = guide.Tubes + [obj]
+    return obj
+
+
+def make_guide(shell, tubes=(), tolerance=0.01, name="SurgicalGuide"):
+    """The final guide: the template shell with its tubes merged and their bores cut."""
+    doc = shell.Document
+    with Step(doc, "Create surgical guide"):
+        obj = doc.addObject("Mesh::FeaturePython", name)
+        Guide(obj)
+        obj.Shell = shell
+        obj.Tubes = list(tubes)
+        obj.Tolerance = tolerance
+        _view(obj, "SurgicalTemplate_Guide.svg")
+        if App.GuiUp:
+            obj.ViewObject.ShapeColor = (0.20, 0.45, 0.85)
+            # The guide replaces its shell and sleeves in the view (they stay in the tree under it).
+            for part in [shell, *tubes]:
+                part.ViewObject.Visibility = False
+    return obj
+
+
+make_final = make_guide

@@ -1,0 +1,69 @@
+"""Plans from planning software onto the document: 3D Slicer markups, CSV of axes, case files."""
+import FreeCAD as App
+
+import st_bridge
+from stfunctions import presets
+from stfunctions.query import tree_of
+from stmake.case import load_case
+from stmake.objects import make_boundary, make_guide, make_template, make_tube, vectors
+from stmake.step import Step
+from stobjects.base import kind_of
+
+
+def load_plan(path, target=None, preset=None, thickness=None):
+    """Imports a plan into the document: a case file builds its whole tree (as load_case); a 3D Slicer
+    markups file (.mrk.json) or a CSV of axes goes onto `target` (a guide, template, boundary or bone;
+    default: the active document's guide or bone), converted into the bone's CoordinateSystem. The
+    plan's boundary replaces the boundary's points (or, on a bare bone, makes a boundary and a
+    template of `thickness`); its axes become tubes added to the guide (made when missing), with sizes
+    the plan lacks from `preset`. One undo step; returns the guide (or the boundary when there are no
+    axes and no template)."""
+    k = st_bridge.kernel()
+    doc = target.Document if target is not None else App.ActiveDocument
+    if target is None and doc is not None:
+        guides = [o for o in doc.Objects if kind_of(o) == "Guide"]
+        bones = [o for o in doc.Objects if kind_of(o) == "Bone"]
+        target = guides[0] if guides else bones[0] if bones else None
+    guide = shell = boundary = bone = None
+    if target is not None:
+        kind = kind_of(target)
+        if kind not in ("Guide", "Template", "Boundary", "Bone"):
+            raise ValueError(f"{target.Label}: a plan goes on a guide, template, boundary or bone, "
+                             f"not a {kind or target.TypeId}")
+        guide, shell, boundary, bone = tree_of(target)
+    plan = k.read_plan(path, getattr(bone, "CoordinateSystem", "LPS"))
+    if plan["kind"] == "case":
+        return load_case(path)
+    if bone is None:
+        raise ValueError(f"{path}: a markups or CSV plan needs a bone to go on"
+                         + (f"; the document {doc.Label} has none" if doc is not None else ""))
+    for w in plan["warnings"]:
+        App.Console.PrintWarning(f"Surgical Template: {w}\n")
+    sizes = presets.preset(preset) if preset is not None else None
+    tubes = [k.tube_from_axis(a, sizes) for a in plan["axes"]]  # every size checked before any change
+    if tubes and boundary is None and plan["boundary_points"] is None:
+        raise ValueError(f"{path}: the plan has drilling axes but {bone.Label} has no boundary to put the "
+                         "template on; import or draw a boundary first")
+    with Step(doc, "Import plan"):
+        if plan["boundary_points"] is not None:
+            if boundary is None:
+                boundary = make_boundary(bone, plan["boundary_points"], plan["inside"])
+            else:
+                boundary.Points = vectors(plan["boundary_points"])
+                if plan["inside"] is not None:
+                    boundary.Inside, boundary.UseInside = App.Vector(*map(float, plan["inside"])), True
+                elif boundary.UseInside:
+                    App.Console.PrintWarning(f"Surgical Template: {path}: a new boundary without an inside point: "
+                                             f"{boundary.Label}'s inside point is dropped (the smaller region is kept)\n")
+                    boundary.UseInside = False
+        if shell is None and (plan["boundary_points"] is not None or tubes):
+            shell = make_template(boundary, thickness or 2.5)
+        new = [make_tube(t["entry"], t["direction"], t["inner_radius"], t["outer_radius"], t["length"], t["offset"],
+                         name=t["name"], doc=doc, depth=t["depth"], preset=sizes) for t in tubes]
+        if new:
+            if guide is None:
+                guide = make_guide(shell, new)
+            else:
+                guide.Tubes = guide.Tubes + new
+    doc.recompute()
+    return guide or shell or boundary

@@ -1,0 +1,40 @@
+"""The surgical guide (Mesh::FeaturePython): the template shell with its tubes merged and their bores
+cut by the kernel, checked as a printable solid."""
+import st_bridge
+from stobjects.base import Feature
+
+
+class Guide(Feature):
+    kind = "Guide"
+
+    def __init__(self, obj):
+        super().__init__(obj)
+        self.add(obj, "App::PropertyLink", "Shell", "Guide", "The template shell")
+        self.add(obj, "App::PropertyLinkList", "Tubes", "Guide", "The drilling tubes merged into the shell")
+        self.add(obj, "App::PropertyLength", "Tolerance", "Guide", "Chordal tolerance of sleeves and bores", 0.01)
+        self.add(obj, "App::PropertyString", "Status", "Result", "What the kernel reported", "", readonly=True)
+
+    def execute(self, obj):
+        shell = obj.Shell
+        if shell is None or shell.Boundary is None or shell.Boundary.Bone is None:
+            raise ValueError(f"{obj.Label}: no template shell on a bone")
+        k = st_bridge.kernel()
+        V, F = st_bridge.mesh_to_arrays(shell.Mesh)
+        if len(F) < shell.InnerFaces or shell.InnerFaces <= 0:
+            raise ValueError(f"{obj.Label}: the shell '{shell.Label}' has not been designed yet")
+        BV, BF = st_bridge.bone_arrays(shell.Boundary.Bone)
+        tubes = [t.Proxy.spec(t) for t in obj.Tubes]
+        if tubes:
+            g = st_bridge.call(k.add_tubes, V, F, int(shell.InnerFaces), BV, BF, tubes,
+                               chordal_tolerance=float(obj.Tolerance.Value),
+                               clearance=float(shell.Clearance.Value))
+            V, F = g["mesh"]
+            seconds = g["seconds"]
+        else:
+            seconds = 0.0
+        report = st_bridge.call(k.check_solid, V, F)
+        if not report["valid"]:
+            raise RuntimeError(f"{obj.Label}: the guide failed its check: {report['summary']}")
+        obj.Mesh = st_bridge.arrays_to_mesh(V, F)
+        self.drop_thickness_map(obj)
+        obj.Status = f"{report['summary']}; tubes {seconds:.3f} s"

@@ -1,0 +1,38 @@
+"""The template (Mesh::FeaturePython): the shell the kernel designs inside a boundary (Thickness,
+Clearance, Resolution); a kernel failure raises in execute() and the object keeps its last good mesh."""
+import st_bridge
+from stobjects.base import Feature
+
+
+class Template(Feature):
+    kind = "Template"
+
+    def __init__(self, obj):
+        super().__init__(obj)
+        self.add(obj, "App::PropertyLink", "Boundary", "Template", "The boundary on the bone")
+        self.add(obj, "App::PropertyLength", "Thickness", "Template", "Distance from inner to outer surface", 2.5)
+        self.add(obj, "App::PropertyLength", "Clearance", "Template",
+                 "Gap between bone and inner surface (printing and fit tolerance)", 0.0)
+        self.add(obj, "App::PropertyLength", "Resolution", "Template",
+                 "Cell size of the distance field for the outer surface; 0 picks thickness / 8", 0.0)
+        self.add(obj, "App::PropertyInteger", "SamplingStep", "Template",
+                 "Border points between samples of the outer cut; 0 picks one", 0)
+        self.add(obj, "App::PropertyInteger", "InnerFaces", "Result",
+                 "The first facets that form the inner surface (the seat on the bone)", 0, readonly=True)
+        self.add(obj, "App::PropertyString", "Status", "Result", "What the kernel reported", "", readonly=True)
+
+    def execute(self, obj):
+        b = obj.Boundary
+        if b is None or b.Bone is None:
+            raise ValueError(f"{obj.Label}: no boundary on a bone")
+        V, F = st_bridge.bone_arrays(b.Bone)
+        k = st_bridge.kernel()
+        r = st_bridge.call(k.design_template, V, F, [st_bridge.vec(p) for p in b.Points],
+                           float(obj.Thickness.Value), clearance=float(obj.Clearance.Value),
+                           resolution=float(obj.Resolution.Value), sampling_step=int(obj.SamplingStep),
+                           inside=st_bridge.vec(b.Inside) if b.UseInside else None,
+                           fit=False)  # the solid check, not the fit statistics (Validate inspects)
+        obj.Mesh = st_bridge.arrays_to_mesh(*r["shell"])
+        obj.InnerFaces = int(r["inner_faces"])
+        self.drop_thickness_map(obj)
+        obj.Status = f"{r['solid']['summary']}; {r['times']['total']:.3f} s"

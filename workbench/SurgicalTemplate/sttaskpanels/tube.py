@@ -1,0 +1,112 @@
+"""The drilling tube task panel: the entry clicked on the bone, the direction from the surface normal,
+the view or a second point, sizes from a sleeve preset or typed in; OK adds the tube through recorded
+code. Its form is Resources/ui/tube.ui."""
+import FreeCAD as App
+import FreeCADGui as Gui
+
+from stfunctions.presets import sleeve_presets
+from stutils.gui_utils import load_form, preference, ref, run, view_of
+
+
+class TubePanel:
+    """Click the entry on the bone; the direction comes from the surface normal there, the view, or a
+    second click (a point along the axis, e.g. where it leaves the bone: its distance is the depth).
+    Sizes from a sleeve preset or typed in."""
+
+    last = None  # the open panel, for scripts and tests
+
+    def __init__(self, bone, guide):
+        TubePanel.last = self
+        self.bone, self.guide = bone, guide
+        self.form = load_form("tube")
+        self.presets = sleeve_presets()
+        self.preset = self.form.preset
+        for p in self.presets:
+            self.preset.addItem(f"{p['name']}: {p['description']}")
+        self.preset.currentIndexChanged.connect(self.apply_preset)
+        self.fields = {}
+        for key, default in (("inner", preference("InnerRadius", 1.1)), ("outer", preference("OuterRadius", 2.0)),
+                             ("length", preference("Length", 5.0)), ("offset", preference("Offset", 3.0))):
+            self.fields[key] = getattr(self.form, key)
+            self.fields[key].setValue(default)
+        self.mode = self.form.mode
+        self.mode.currentIndexChanged.connect(lambda _: self.reset())
+        self.entry, self.axis = self.form.entry, self.form.axis
+        self.picked = None  # (entry, direction into the bone, depth or 0)
+        self.view = view_of(bone.Document if bone is not None else App.ActiveDocument)
+        self.callback = self.view.addEventCallback("SoMouseButtonEvent", self.on_mouse)
+
+    def apply_preset(self, index):
+        if index <= 0:
+            return
+        p = self.presets[index - 1]
+        for key, field in (("inner", "inner_radius"), ("outer", "outer_radius"), ("length", "length"),
+                           ("offset", "offset")):
+            self.fields[key].setValue(p[field])
+
+    def reset(self):
+        self.picked = None
+        self.entry.setText("click the entry point on the bone")
+        self.axis.setText("")
+
+    def on_mouse(self, info):
+        if info.get("State") == "DOWN" and info.get("Button") == "BUTTON1":
+            self.click(info["Position"])
+
+    def _hit(self, position):
+        hit = self.view.getObjectInfo(tuple(position))
+        if not hit or self.bone is None or hit.get("Object") != self.bone.Name:
+            return None, None
+        p = App.Vector(hit["x"], hit["y"], hit["z"])
+        # The clicked facet (FreeCAD names a mesh pick only "Main"): the first one a short ray along the
+        # view meets through the picked point.
+        d = App.Vector(self.view.getViewDirection())
+        facets = self.bone.Mesh.nearestFacetOnRay(tuple(p - d * 0.05), tuple(d))
+        normal = self.bone.Mesh.Facets[int(list(facets)[0])].Normal if facets else None
+        return p, normal
+
+    def click(self, position):
+        """A click at a screen position: the entry, or in second-point mode the point along the axis."""
+        p, normal = self._hit(position)
+        if p is None:
+            return False
+        mode = self.mode.currentIndex()
+        if mode == 2 and self.picked is not None and self.picked[2] == 0 and self.picked[1] is None:
+            along = p - self.picked[0]
+            if along.Length < 1e-6:
+                return False
+            self.picked = (self.picked[0], along.normalize(), (p - self.picked[0]).Length)
+        else:
+            if mode == 0:
+                d = (normal if normal is not None else self.view.getViewDirection() * -1) * -1
+            elif mode == 1:
+                d = App.Vector(self.view.getViewDirection())
+            else:
+                d = None  # wait for the second point
+            self.picked = (p, d, 0.0)
+            self.entry.setText(f"{p.x:.2f}, {p.y:.2f}, {p.z:.2f}")
+        e, d, depth = self.picked
+        self.axis.setText("click a second point along the axis" if d is None else
+                          f"direction {d.x:.3f}, {d.y:.3f}, {d.z:.3f}" + (f"; depth {depth:.1f} mm" if depth else ""))
+        return True
+
+    def accept(self):
+        f = {k: v.value() for k, v in self.fields.items()}  # before closing deletes the widgets
+        index = self.preset.currentIndex()
+        preset = self.presets[index - 1]["name"] if index > 0 else ""
+        self.view.removeEventCallback("SoMouseButtonEvent", self.callback)
+        Gui.Control.closeDialog()
+        if self.picked is None or self.picked[1] is None:
+            return True
+        p, d, depth = self.picked
+        code = (f"tube = SurgicalTemplate.make_tube(({p.x:.4f}, {p.y:.4f}, {p.z:.4f}), ({d.x:.5f}, {d.y:.5f}, "
+                f"{d.z:.5f}), {f['inner']}, {f['outer']}, {f['length']}, {f['offset']}"
+                + (f", depth={depth:.3f}" if depth else "") + (f", preset={preset!r}" if preset else "")
+                + (f", guide={ref(self.guide)}" if self.guide is not None else "") + ")\n")
+        run("Add drilling tube", code + "App.ActiveDocument.recompute()")
+        return True
+
+    def reject(self):
+        self.view.removeEventCallback("SoMouseButtonEvent", self.callback)
+        Gui.Control.closeDialog()
+        return True

@@ -1,0 +1,71 @@
+"""The Validate task panel: the inspection of a guide or template (stfunctions.inspection) with its verdict,
+seating and bores, and the thickness map on the mesh with its legend. Its form is
+Resources/ui/validate.ui."""
+import FreeCAD as App
+import FreeCADGui as Gui
+from PySide import QtCore, QtGui
+
+from stfunctions.inspection import inspect, thickness_colour
+from stutils.gui_utils import load_form
+
+
+class ValidatePanel:
+    """The inspection of a guide or template in a task panel, its thickness map on the mesh."""
+
+    last = None  # the open panel, for scripts and tests
+
+    def __init__(self, obj):
+        ValidatePanel.last = self
+        self.obj = obj
+        self.form = load_form("validate")
+        QtGui.QApplication.setOverrideCursor(QtCore.Qt.WaitCursor)
+        try:
+            self.result = inspect(obj)
+            self.error = None
+        except (ValueError, RuntimeError) as e:
+            self.result, self.error = None, str(e)
+        finally:
+            QtGui.QApplication.restoreOverrideCursor()
+        f = self.form
+        if self.error:
+            App.Console.PrintError(f"Surgical Template: Validate failed: {self.error}\n")
+            f.failure.setText(f"Could not inspect {obj.Label}:\n{self.error}")
+            f.report.hide()
+            return
+        f.failure.hide()
+        r = self.result
+        f.verdict.setText(("PASSED: " if r["passed"] else "FAILED: ") + obj.Label)
+        f.verdict.setStyleSheet("font-weight: bold; color: %s" % ("#2a7d3a" if r["passed"] else "#b3261e"))
+        solid = r["solid"]
+        f.solid.setText(solid["summary"])
+        f.volume.setText(f"{solid['volume']:.1f} mm\u00b3, {solid['components']} piece(s)")
+        f.seating.setText("nothing in the bone" if r["vertices_in_bone"] == 0 else
+                          f"{r['vertices_in_bone']} vertices in the bone, deepest {r['deepest_in_bone']:.3f} mm")
+        f.seated.setText(f"{r['seated_vertices']} vertices within 0.01 mm of the clearance ({r['clearance']:.2f} mm)")
+        if r["bores"]:
+            f.bores.setRowCount(len(r["bores"]))
+            for i, b in enumerate(r["bores"]):
+                for j, text in enumerate((b["name"], f"{b['margin']:.3f}", "yes" if b["open"] else "NO")):
+                    f.bores.setItem(i, j, QtGui.QTableWidgetItem(text))
+            f.bores.resizeColumnsToContents()
+        else:
+            f.bores.hide()
+        t, c = r["thickness"], r["clearance"]
+        legend = ((-1.0, "in the bone"), (c, f"{c:.2f} mm: seated"), (c + t / 2, f"{c + t / 2:.2f} mm"),
+                  (c + t, f"{c + t:.2f} mm: outer surface"), (c + 2 * t, "beyond: sleeves"))
+        for i, (distance, text) in enumerate(legend):
+            colour = QtGui.QColor.fromRgbF(*thickness_colour(distance, t, c))
+            swatch = getattr(f, f"swatch{i}")
+            swatch.setText(f"  \u25a0  {text}")
+            swatch.setStyleSheet(f"color: {colour.name()}")
+        self.show_map = f.show_map
+        self.show_map.toggled.connect(lambda on: setattr(obj.ViewObject, "Coloring", bool(on)))
+        (App.Console.PrintMessage if r["passed"] else App.Console.PrintError)(
+            f"Surgical Template: {obj.Label}: {r['summary']}\n")
+
+    def getStandardButtons(self):
+        return int(QtGui.QDialogButtonBox.Close)
+
+    def reject(self):
+        Gui.Control.closeDialog()
+        return True

@@ -1,0 +1,1 @@
+"""Helpers the workbench's GUI layers share (gui_utils)."""
