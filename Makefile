@@ -20,10 +20,7 @@ build: deps
 FREECAD_MOD ?= $(if $(FREECAD_USER_DATA),$(FREECAD_USER_DATA),$(HOME)/.local/share/FreeCAD)/Mod
 install: build
 	rm -rf $(FREECAD_MOD)/SurgicalTemplate
-	mkdir -p $(FREECAD_MOD)/SurgicalTemplate/icons
-	cp -r workbench/SurgicalTemplate/. $(FREECAD_MOD)/SurgicalTemplate/
-	cp icons/*.svg $(FREECAD_MOD)/SurgicalTemplate/icons/
-	cp $(BUILD)/python/stkernel*.so $(FREECAD_MOD)/SurgicalTemplate/
+	cmake --install $(BUILD) --prefix $(FREECAD_MOD) --component workbench
 	@echo "Surgical Template installed in $(FREECAD_MOD)/SurgicalTemplate"
 
 # Everything CI runs: the Release tests (GoogleTest, pytest), the kernel tests under ASan+UBSan, and
