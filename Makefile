@@ -45,6 +45,7 @@ test-sanitize: deps
 
 test-fuzz: deps
 	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DST_FUZZ=ON \
+	  -DCMAKE_AR=/usr/bin/ar -DCMAKE_RANLIB=/usr/bin/ranlib \
 	  -DST_BUILD_TESTS=OFF -DST_BUILD_PYTHON=OFF \
 	  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer"
 	cmake --build build-fuzz -j$(JOBS) --target fuzz_stl fuzz_ply fuzz_obj fuzz_gz fuzz_case fuzz_plan

@@ -7,8 +7,6 @@ namespace py = pybind11;
 using namespace st;
 using namespace st::py_convert;
 
-py::dict solid_dict(const SolidReport& r);
-
 void bind_boolean(py::module_& m) {
   m.def(
       "mesh_boolean",

@@ -20,26 +20,6 @@ struct RayCaster {
 
 } // namespace
 
-py::dict solid_dict(const SolidReport& r) {
-  py::dict d;
-  d["valid"] = r.valid();
-  d["closed"] = r.closed();
-  d["manifold"] = r.manifold();
-  d["oriented"] = r.oriented();
-  d["border_edges"] = r.border_edges;
-  d["nonmanifold_edges"] = r.nonmanifold_edges;
-  d["nonmanifold_vertices"] = r.nonmanifold_vertices;
-  d["misoriented_edges"] = r.misoriented_edges;
-  d["degenerate_triangles"] = r.degenerate_triangles;
-  d["self_intersections"] = r.self_intersections;
-  d["components"] = r.components;
-  d["area"] = r.area;
-  d["volume"] = r.volume;
-  d["summary"] = r.summary();
-  d["problem_points"] = from_points(r.problem_points);
-  return d;
-}
-
 void bind_mesh(py::module_& m) {
   m.def(
       "read_mesh",
@@ -87,7 +67,7 @@ void bind_mesh(py::module_& m) {
           py::gil_scoped_release release;
           s = distances_to_surface(p, mesh);
         }
-        return stats_dict(s);
+        return from_json(to_json(s));
       },
       py::arg("points"), py::arg("vertices"), py::arg("triangles"),
       "Min/max/mean exact distance of points to a triangle surface, mm.");

@@ -76,6 +76,7 @@ py::dict preset_dict(const SleevePreset& p) {
 SleevePreset to_preset(const py::dict& d) {
   SleevePreset p;
   p.name = d.contains("name") ? py::str(d["name"]).cast<std::string>() : "";
+  if (d.contains("description")) p.description = py::str(d["description"]).cast<std::string>();
   p.inner_radius = d["inner_radius"].cast<double>();
   p.outer_radius = d["outer_radius"].cast<double>();
   p.length = d["length"].cast<double>();
@@ -130,4 +131,29 @@ void bind_plan(py::module_& m) {
       py::arg("axis"), py::arg("preset") = py::none(),
       "A tube (case-file keys) from a plan axis, sizes the plan lacks taken from `preset`; ValueError naming the "
       "axis when a size is missing or impossible.");
+  m.def(
+      "find_sleeve_preset",
+      [](const py::list& presets, const std::string& name) {
+        std::vector<SleevePreset> catalogue;
+        for (const py::handle p : presets) catalogue.push_back(to_preset(py::reinterpret_borrow<py::dict>(p)));
+        return preset_dict(find_sleeve_preset(catalogue, name));
+      },
+      py::arg("presets"), py::arg("name"),
+      "The preset called `name` (exact, then ignoring case) in a catalogue (sleeve_presets' dicts); ValueError "
+      "listing the names when there is none.");
+  m.def(
+      "apply_plan",
+      [](const py::dict& c, const std::string& plan_path, const std::string& space,
+         const std::optional<py::dict>& preset, bool add_tubes) {
+        CaseFile out = to_case(c);
+        const std::vector<std::string> warnings = apply_plan(out, read_plan(plan_path, to_space(space)),
+                                                             preset ? std::optional(to_preset(*preset)) : std::nullopt,
+                                                             add_tubes ? PlanTubes::Add : PlanTubes::Replace);
+        return py::make_tuple(case_dict(out), warnings);
+      },
+      py::arg("case"), py::arg("plan"), py::arg("space") = "LPS", py::arg("preset") = py::none(),
+      py::arg("add_tubes") = false,
+      "Puts the plan in the file `plan` (in the frame `space` of the case's bone) into a case (read_case's keys): "
+      "its boundary and inside point replace the case's, its axes become tubes (sizes it lacks from `preset`) "
+      "replacing the case's or, with add_tubes, added to them. Returns (case, warnings).");
 }

@@ -12,26 +12,7 @@ namespace py = pybind11;
 using namespace st;
 using namespace st::py_convert;
 
-py::dict solid_dict(const SolidReport& r);
-
-namespace {
-
-py::list placements_list(const std::vector<TubePlacement>& placements) {
-  py::list out;
-  for (const TubePlacement& p : placements) {
-    py::dict d;
-    d["name"] = p.name;
-    d["sleeve"] = py::make_tuple(p.sleeve_bottom, p.sleeve_top);
-    d["column_bottom"] = p.column_bottom;
-    d["template"] = py::make_tuple(p.template_bottom, p.template_top);
-    d["bore"] = py::make_tuple(p.bore_bottom, p.bore_top);
-    d["inside_template"] = p.sleeve_inside_template;
-    out.append(d);
-  }
-  return out;
-}
-
-} // namespace
+namespace {} // namespace
 
 void bind_template(py::module_& m) {
   m.def(
@@ -140,44 +121,16 @@ void bind_template(py::module_& m) {
           py::gil_scoped_release release;
           r = design_template(bone, o);
         }
-        py::dict d;
+        py::dict d = from_json(to_json(r, o)); // counts, times, tubes, boolean, solid, fit
         d["shell"] = from_mesh(r.shell);
         d["body"] = from_mesh(r.body);
         d["inner_faces"] = r.body_inner_faces;
         d["from_tube"] = py::array_t<std::uint8_t>(static_cast<py::ssize_t>(r.from_tube.size()), r.from_tube.data());
-        d["tubes"] = placements_list(r.tubes);
-        d["perturbed_operations"] = r.perturbed_operations;
         d["inner"] = from_mesh(r.inner);
         d["outer"] = from_mesh(r.outer);
         d["curve"] = from_points(r.curve);
         d["outer_curve"] = from_points(r.outer_curve);
-        py::dict counts;
-        counts["inner_rim_points"] = r.inner_rim_points;
-        counts["outer_rim_points"] = r.outer_rim_points;
-        counts["wall_triangles"] = r.wall_triangles;
-        counts["offset_triangles"] = r.offset_triangles;
-        counts["field_voxels"] = r.field_voxels;
-        counts["resolution"] = r.resolution;
-        counts["sampling_step"] = r.sampling_step;
-        d["counts"] = counts;
-        py::dict times;
-        times["inner_segmentation"] = r.times.inner_segmentation;
-        times["offset"] = r.times.offset;
-        times["outer_points"] = r.times.outer_points;
-        times["outer_segmentation"] = r.times.outer_segmentation;
-        times["connection"] = r.times.connection;
-        times["total"] = r.times.total;
-        times["boolean"] = r.times.boolean;
-        times["validation"] = r.times.validation;
-        d["times"] = times;
-        if (check) d["solid"] = solid_dict(r.solid);
-        if (check && fit) {
-          py::dict fit;
-          fit["inner_to_bone"] = stats_dict(r.fit.inner_to_bone);
-          fit["outer_to_inner"] = stats_dict(r.fit.outer_to_inner);
-          fit["rim_to_curve"] = stats_dict(r.fit.rim_to_curve);
-          d["fit"] = fit;
-        }
+        if (o.check) d["solid"] = solid_dict(r.solid);
         return d;
       },
       py::arg("vertices"), py::arg("triangles"), py::arg("boundary_points"), py::arg("thickness"),
@@ -188,7 +141,8 @@ void bind_template(py::module_& m) {
       "Designs the template (closed shell) on a bone mesh, with its drilling tubes (dicts with the case file's "
       "tube keys) merged and bored. Returns a dict with 'shell' (the guide), 'body' (before the tubes; its first "
       "'inner_faces' faces are the inner surface), 'inner', 'outer' (each (vertices, triangles)), 'from_tube' "
-      "(per shell face), 'tubes' (placements), 'curve', 'counts', 'times' (s), 'solid' and (with fit=True) 'fit'.");
+      "(per shell face), 'tubes' (placements), 'curve', and the report's 'counts', 'times' (s), 'boolean', 'solid' and "
+      "(with fit=True) 'fit' (the keys of the tool's --report, st/io/report.h).");
 
   m.def(
       "add_tubes",
@@ -205,12 +159,9 @@ void bind_template(py::module_& m) {
           py::gil_scoped_release release;
           g = add_tubes(shell, inner_faces, bone, specs, o);
         }
-        py::dict d;
+        py::dict d = from_json(to_json(g)); // tubes, seconds, perturbed_operations, ...
         d["mesh"] = from_mesh(g.mesh);
         d["from_tube"] = py::array_t<std::uint8_t>(static_cast<py::ssize_t>(g.from_tube.size()), g.from_tube.data());
-        d["tubes"] = placements_list(g.tubes);
-        d["seconds"] = g.seconds;
-        d["perturbed_operations"] = g.perturbed_operations;
         return d;
       },
       py::arg("shell_vertices"), py::arg("shell_triangles"), py::arg("inner_faces"), py::arg("bone_vertices"),

@@ -3,6 +3,7 @@
 // positions (n, 3) float64, triangles (m, 3) int32/uint32/int64 (checked against n).
 
 #include "st/io/case_file.h"
+#include "st/io/report.h"
 #include "st/core/errors.h"
 #include "st/core/mesh.h"
 #include "st/validate/validate.h"
@@ -67,12 +68,13 @@ inline py::tuple from_mesh(const TriangleMesh& m) {
   return py::make_tuple(from_points(m.positions), from_triangles(m.triangles));
 }
 
-inline py::dict stats_dict(const DistanceStats& s) {
-  py::dict d;
-  d["min"] = s.min;
-  d["max"] = s.max;
-  d["mean"] = s.mean;
-  d["count"] = s.count;
+/// A JSON value (st/io/report.h) as the Python object json.loads makes of it.
+inline py::object from_json(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+
+/// The solid check (st/io/report.h's keys) with the places of its problems.
+inline py::dict solid_dict(const SolidReport& r) {
+  py::dict d = from_json(to_json(r));
+  d["problem_points"] = from_points(r.problem_points);
   return d;
 }
 
@@ -136,6 +138,49 @@ inline py::dict tube_dict(const TubeSpec& t) {
   td["offset"] = t.offset;
   td["depth"] = t.depth;
   return td;
+}
+
+/// A case (CaseFile) as read_case returns it: {path, name, bone, boundary_points, inside, thickness,
+/// clearance, resolution, sampling_step, tubes, output, warnings}; missing optionals are None.
+inline py::dict case_dict(const CaseFile& c) {
+  const auto optional = [](const auto& v) { return v ? py::cast(*v) : py::object(py::none()); };
+  py::dict d;
+  d["path"] = c.path;
+  d["name"] = c.name;
+  d["bone"] = c.bone;
+  d["boundary_points"] = from_points(c.boundary_points);
+  d["inside"] = c.inside ? py::object(from_points({*c.inside}).attr("reshape")(3)) : py::object(py::none());
+  d["thickness"] = c.thickness;
+  d["clearance"] = c.clearance;
+  d["resolution"] = optional(c.resolution);
+  d["sampling_step"] = optional(c.sampling_step);
+  py::list tubes;
+  for (const TubeSpec& t : c.tubes) tubes.append(tube_dict(t));
+  d["tubes"] = tubes;
+  d["output"] = optional(c.output);
+  d["warnings"] = c.warnings;
+  return d;
+}
+
+/// The CaseFile of a dict with case_dict's keys (missing keys, or None, leave their defaults).
+inline CaseFile to_case(const py::dict& d) {
+  const auto has = [&](const char* key) { return d.contains(key) && !d[key].is_none(); };
+  CaseFile c;
+  if (has("path")) c.path = py::str(d["path"]).cast<std::string>();
+  if (has("name")) c.name = py::str(d["name"]).cast<std::string>();
+  if (has("bone")) c.bone = py::str(d["bone"]).cast<std::string>();
+  if (has("boundary_points")) {
+    const py::array pts = py::module_::import("numpy").attr("asarray")(d["boundary_points"], "float64");
+    if (pts.size() > 0) c.boundary_points = to_points(Points(pts.attr("reshape")(-1, 3)), "boundary_points");
+  }
+  c.inside = to_optional_point(has("inside") ? py::object(d["inside"]) : py::object(py::none()), "inside");
+  if (has("thickness")) c.thickness = d["thickness"].cast<double>();
+  if (has("clearance")) c.clearance = d["clearance"].cast<double>();
+  if (has("resolution")) c.resolution = d["resolution"].cast<double>();
+  if (has("sampling_step")) c.sampling_step = d["sampling_step"].cast<int>();
+  if (has("tubes")) c.tubes = to_tubes(d["tubes"]);
+  if (has("output")) c.output = py::str(d["output"]).cast<std::string>();
+  return c;
 }
 
 } // namespace st::py_convert

@@ -9,11 +9,13 @@
 //
 // Exit codes: 0 done, 1 the geometry cannot give a template (message says where), 2 invalid input.
 
+#include "detail/input_file.h"
 #include "st/boolean/boolean.h"
 #include "st/io/case_file.h"
 #include "st/core/errors.h"
 #include "st/io/mesh_io.h"
 #include "st/io/plan.h"
+#include "st/io/report.h"
 #include "st/design/template_design.h"
 #include "st/validate/validate.h"
 
@@ -59,10 +61,6 @@ double peak_memory_mb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;
 }
 
-nlohmann::json stats(const st::DistanceStats& s) {
-  return {{"min", s.min}, {"max", s.max}, {"mean", s.mean}, {"count", s.count}};
-}
-
 double parse_length(const std::string& text, const std::string& what) {
   std::size_t used = 0;
   double value = 0.0;
@@ -74,17 +72,6 @@ double parse_length(const std::string& text, const std::string& what) {
   if (used != text.size() || !std::isfinite(value) || value <= 0.0)
     throw st::InvalidInput(what + ": expected a positive length in mm, got '" + text + "'");
   return value;
-}
-
-void write_text_atomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw st::InvalidInput(path + ": cannot write the report");
-    out << text;
-    if (!out) throw st::InvalidInput(path + ": cannot write the report");
-  }
-  std::filesystem::rename(tmp, path);
 }
 
 /// The plan options shared by `design` and `plan`.
@@ -112,24 +99,6 @@ struct PlanOptions {
     return st::find_sleeve_preset(catalogue(), preset);
   }
 };
-
-/// The plan's boundary and axes in place of the case's (those the plan gives).
-void apply_plan(st::CaseFile& c, const st::Plan& plan, const std::optional<st::SleevePreset>& sizes) {
-  for (const std::string& w : plan.warnings) std::cerr << "warning: " << w << "\n";
-  if (!plan.boundary_points.empty()) {
-    if (c.inside && !plan.inside)
-      std::cerr << "warning: " << plan.path << ": a new boundary without an inside point: the case's inside point "
-                << "is dropped (the smaller region is kept)\n";
-    c.boundary_points = plan.boundary_points;
-    c.inside = plan.inside;
-  } else if (plan.inside) {
-    c.inside = plan.inside;
-  }
-  if (!plan.axes.empty()) {
-    c.tubes.clear();
-    for (const st::PlanAxis& axis : plan.axes) c.tubes.push_back(st::tube_from_axis(axis, sizes));
-  }
-}
 
 nlohmann::json point_json(const st::Vec3& p) { return {p.x(), p.y(), p.z()}; }
 
@@ -228,7 +197,9 @@ int design(int argc, char** argv) {
   const st::TriangleMesh bone = st::read_mesh(c.bone, &read_report);
   const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_read).count();
   for (const std::string& plan_path : plan_options.plans)
-    apply_plan(c, st::read_plan(plan_path, st::mesh_space(read_report.header)), plan_options.sizes());
+    for (const std::string& w :
+         st::apply_plan(c, st::read_plan(plan_path, st::mesh_space(read_report.header)), plan_options.sizes()))
+      std::cerr << "warning: " << w << "\n";
 
   st::TemplateOptions o = st::template_options(c);
   o.simplify_outer = simplify;
@@ -258,60 +229,18 @@ int design(int argc, char** argv) {
   if (!r.tubes.empty()) std::printf("  %zu drilling tube(s) merged and bored in %.3f s\n", r.tubes.size(), t.boolean);
 
   if (!report_path.empty()) {
-    nlohmann::json rep;
+    nlohmann::json rep = st::to_json(r, o);
     rep["case"] = c.name;
     rep["output"] = out_path;
     rep["input"] = {{"triangles", bone.face_count()},
                     {"points", bone.vertex_count()},
                     {"degenerate_dropped", read_report.degenerate_dropped},
                     {"read_seconds", read_seconds}};
-    rep["counts"] = {{"edge_points_of_inner_surface", r.inner_rim_points},
-                     {"triangles_of_inner_surface", r.inner.face_count()},
-                     {"points_of_inner_surface", r.inner.vertex_count()},
-                     {"edge_points_of_outer_surface", r.outer_rim_points},
-                     {"triangles_of_outer_surface", r.outer.face_count()},
-                     {"offset_triangles", r.offset_triangles},
-                     {"field_voxels", r.field_voxels},
-                     {"wall_triangles", r.wall_triangles},
-                     {"template_triangles", r.shell.face_count()},
-                     {"drilling_tubes", c.tubes.size()},
-                     {"sampling_step", r.sampling_step},
-                     {"resolution", r.resolution}};
-    rep["times"] = {{"inner_surface_segmentation", t.inner_segmentation},
-                    {"offset_of_inner_surface", t.offset},
-                    {"points_for_outer_surface_segmentation", t.outer_points},
-                    {"outer_surface_segmentation", t.outer_segmentation},
-                    {"connection_of_inner_and_outer_surfaces", t.connection},
-                    {"initial_template_generation", t.total},
-                    {"boolean_operation", t.boolean},
-                    {"validation", t.validation},
-                    {"wall_clock", std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()}};
-    rep["tubes"] = nlohmann::json::array();
-    for (const st::TubePlacement& p : r.tubes)
-      rep["tubes"].push_back({{"name", p.name},
-                              {"sleeve", {p.sleeve_bottom, p.sleeve_top}},
-                              {"column_bottom", p.column_bottom},
-                              {"template", {p.template_bottom, p.template_top}},
-                              {"bore", {p.bore_bottom, p.bore_top}},
-                              {"inside_template", p.sleeve_inside_template}});
-    rep["boolean"] = {{"perturbed_operations", r.perturbed_operations},
-                      {"max_perturbation_mm", r.max_perturbation},
-                      {"curve_tolerance_mm", r.curve_tolerance}};
+    rep["times"]["wall_clock"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     rep["peak_memory_mb"] = peak_memory_mb();
-    rep["solid"] = {{"valid", r.solid.valid()},
-                    {"closed", r.solid.closed()},
-                    {"manifold", r.solid.manifold()},
-                    {"oriented", r.solid.oriented()},
-                    {"self_intersections", r.solid.self_intersections},
-                    {"components", r.solid.components},
-                    {"volume", r.solid.volume},
-                    {"area", r.solid.area}};
-    rep["fit"] = {{"inner_to_bone", stats(r.fit.inner_to_bone)},
-                  {"outer_to_inner", stats(r.fit.outer_to_inner)},
-                  {"rim_to_curve", stats(r.fit.rim_to_curve)},
-                  {"thickness", c.thickness},
-                  {"clearance", c.clearance}};
-    write_text_atomically(report_path, rep.dump(2) + "\n");
+    rep["fit"]["thickness"] = c.thickness;
+    rep["fit"]["clearance"] = c.clearance;
+    st::detail::write_text_atomically(report_path, rep.dump(2) + "\n", "report");
   }
   return 0;
 }

@@ -45,7 +45,7 @@ def test_design_template_with_tubes(stk):
     r = stk.design_template(v, f, case["boundary_points"], case["thickness"], case["clearance"],
                             inside=case["inside"], sampling_step=case["sampling_step"], tubes=case["tubes"])
     assert r["solid"]["valid"] and r["solid"]["components"] == 1
-    assert r["times"]["boolean"] > 0
+    assert r["times"]["boolean_operation"] > 0
     assert len(r["tubes"]) == 1 and r["tubes"][0]["name"] == "IS1"
     assert r["from_tube"].sum() > 50
     # The body plus the sleeve: more volume than the body alone, less than body plus the whole column.

@@ -50,4 +50,26 @@ inline std::string read_file_start(const std::string& path, const std::string& w
   return out;
 }
 
+/// Writes `text` to `path` through a temporary file renamed over it, so a reader never sees half a
+/// file and a failure leaves no file behind. InvalidInput naming the path and the reason.
+inline void write_text_atomically(const std::string& path, const std::string& text, const std::string& what) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw InvalidInput(path + ": cannot write the " + what);
+    out << text;
+    out.close();
+    if (!out) {
+      std::filesystem::remove(tmp);
+      throw InvalidInput(path + ": cannot write the " + what);
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp);
+    throw InvalidInput(path + ": cannot write the " + what + ": " + ec.message());
+  }
+}
+
 } // namespace st::detail

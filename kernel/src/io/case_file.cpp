@@ -141,4 +141,40 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
 
 CaseFile read_case(const std::string& path) { return parse_case(detail::read_text_file(path, "case file"), path); }
 
+std::string case_json(const CaseFile& c, const std::string& path) {
+  const fs::path folder = fs::absolute(fs::path(path)).parent_path();
+  const auto relative = [&](const std::string& p) { return fs::absolute(p).lexically_relative(folder).string(); };
+  const auto point = [](const Vec3& p) { return json::array({p.x(), p.y(), p.z()}); };
+  json doc;
+  doc["format"] = kCaseFormat;
+  doc["name"] = c.name;
+  doc["bone"] = relative(c.bone);
+  doc["boundary"]["points"] = json::array();
+  for (const Vec3& p : c.boundary_points) doc["boundary"]["points"].push_back(point(p));
+  if (c.inside) doc["boundary"]["inside"] = point(*c.inside);
+  doc["template"] = {{"thickness", c.thickness}, {"clearance", c.clearance}};
+  if (c.resolution) doc["template"]["resolution"] = *c.resolution;
+  if (c.sampling_step) doc["template"]["sampling_step"] = *c.sampling_step;
+  doc["tubes"] = json::array();
+  for (const TubeSpec& t : c.tubes) {
+    json tube = {{"name", t.name},
+                 {"entry", point(t.entry)},
+                 {"direction", point(t.direction)},
+                 {"inner_radius", t.inner_radius},
+                 {"outer_radius", t.outer_radius},
+                 {"length", t.length},
+                 {"offset", t.offset}};
+    if (t.depth > 0.0) tube["depth"] = t.depth;
+    doc["tubes"].push_back(tube);
+  }
+  if (c.output) doc["output"] = relative(*c.output);
+  return doc.dump(2) + "\n";
+}
+
+void write_case(const CaseFile& c, const std::string& path) {
+  const std::string text = case_json(c, path);
+  parse_case(text, path); // every rule of the format, before a byte is written
+  detail::write_text_atomically(path, text, "case file");
+}
+
 } // namespace st

@@ -26,8 +26,4 @@ def preset(name_or_sizes):
     """A preset's sizes: a dict as it is, or the catalogue's preset of that name (case ignored)."""
     if isinstance(name_or_sizes, dict):
         return name_or_sizes
-    presets = sleeve_presets()
-    for p in presets:
-        if p["name"] == name_or_sizes or p["name"].lower() == str(name_or_sizes).lower():
-            return p
-    raise ValueError(f"no sleeve preset {name_or_sizes!r}; the catalogue has " + ", ".join(p["name"] for p in presets))
+    return st_bridge.kernel().find_sleeve_preset(sleeve_presets(), str(name_or_sizes))

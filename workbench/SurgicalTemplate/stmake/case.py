@@ -1,5 +1,4 @@
 """Case files (docs/CASE-FORMAT.md) in and out, and the STL of a template or guide."""
-import json
 import os
 
 import FreeCAD as App
@@ -44,26 +43,16 @@ def save_case(guide, path, output=None):
     source = getattr(bone, "SourceFile", "")
     if not source:
         raise ValueError(f"{bone.Label}: the bone was not read from a file; export it first")
-    folder = os.path.dirname(os.path.abspath(path))
-    case = {
-        "format": st_bridge.kernel().CASE_FORMAT,
+    st_bridge.kernel().write_case({
         "name": guide.Label,
-        "bone": os.path.relpath(source, folder),
-        "boundary": {"points": [st_bridge.vec(p) for p in boundary.Points]},
-        "template": {"thickness": float(shell.Thickness.Value), "clearance": float(shell.Clearance.Value)},
+        "bone": source,
+        "boundary_points": [st_bridge.vec(p) for p in boundary.Points],
+        "inside": st_bridge.vec(boundary.Inside) if boundary.UseInside else None,
+        "thickness": float(shell.Thickness.Value),
+        "clearance": float(shell.Clearance.Value),
+        "resolution": float(shell.Resolution.Value) if shell.Resolution.Value > 0 else None,
+        "sampling_step": int(shell.SamplingStep) if shell.SamplingStep > 0 else None,
         "tubes": [t.Proxy.spec(t) for t in guide.Tubes],
-    }
-    if boundary.UseInside:
-        case["boundary"]["inside"] = st_bridge.vec(boundary.Inside)
-    if shell.Resolution.Value > 0:
-        case["template"]["resolution"] = float(shell.Resolution.Value)
-    if shell.SamplingStep > 0:
-        case["template"]["sampling_step"] = int(shell.SamplingStep)
-    if output:
-        case["output"] = output
-    tmp = path + ".tmp"
-    with open(tmp, "w") as f:
-        json.dump(case, f, indent=2)
-        f.write("\n")
-    os.replace(tmp, path)
+        "output": os.path.join(os.path.dirname(os.path.abspath(path)), output) if output else None,
+    }, path)
     return path

@@ -37,10 +37,15 @@ def load_plan(path, target=None, preset=None, thickness=None):
     if bone is None:
         raise ValueError(f"{path}: a markups or CSV plan needs a bone to go on"
                          + (f"; the document {doc.Label} has none" if doc is not None else ""))
-    for w in plan["warnings"]:
-        App.Console.PrintWarning(f"Surgical Template: {w}\n")
     sizes = presets.preset(preset) if preset is not None else None
-    tubes = [k.tube_from_axis(a, sizes) for a in plan["axes"]]  # every size checked before any change
+    # The kernel's apply_plan on the case of what is there (boundary, inside point): every size is
+    # checked before any change; the plan's axes come back as tubes to add.
+    case = {"boundary_points": [st_bridge.vec(p) for p in boundary.Points] if boundary is not None else None,
+            "inside": st_bridge.vec(boundary.Inside) if boundary is not None and boundary.UseInside else None}
+    new, warnings = k.apply_plan(case, path, getattr(bone, "CoordinateSystem", "LPS"), sizes, add_tubes=True)
+    for w in warnings:
+        App.Console.PrintWarning(f"Surgical Template: {w}\n")
+    tubes = new["tubes"]
     if tubes and boundary is None and plan["boundary_points"] is None:
         raise ValueError(f"{path}: the plan has drilling axes but {bone.Label} has no boundary to put the "
                          "template on; import or draw a boundary first")
@@ -49,21 +54,19 @@ def load_plan(path, target=None, preset=None, thickness=None):
             if boundary is None:
                 boundary = make_boundary(bone, plan["boundary_points"], plan["inside"])
             else:
-                boundary.Points = vectors(plan["boundary_points"])
-                if plan["inside"] is not None:
-                    boundary.Inside, boundary.UseInside = App.Vector(*map(float, plan["inside"])), True
-                elif boundary.UseInside:
-                    App.Console.PrintWarning(f"Surgical Template: {path}: a new boundary without an inside point: "
-                                             f"{boundary.Label}'s inside point is dropped (the smaller region is kept)\n")
+                boundary.Points = vectors(new["boundary_points"])
+                if new["inside"] is not None:
+                    boundary.Inside, boundary.UseInside = App.Vector(*map(float, new["inside"])), True
+                else:
                     boundary.UseInside = False
         if shell is None and (plan["boundary_points"] is not None or tubes):
             shell = make_template(boundary, thickness or 2.5)
-        new = [make_tube(t["entry"], t["direction"], t["inner_radius"], t["outer_radius"], t["length"], t["offset"],
-                         name=t["name"], doc=doc, depth=t["depth"], preset=sizes) for t in tubes]
-        if new:
+        added = [make_tube(t["entry"], t["direction"], t["inner_radius"], t["outer_radius"], t["length"],
+                           t["offset"], name=t["name"], doc=doc, depth=t["depth"], preset=sizes) for t in tubes]
+        if added:
             if guide is None:
-                guide = make_guide(shell, new)
+                guide = make_guide(shell, added)
             else:
-                guide.Tubes = guide.Tubes + new
+                guide.Tubes = guide.Tubes + added
     doc.recompute()
     return guide or shell or boundary

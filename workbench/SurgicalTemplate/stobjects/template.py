@@ -35,4 +35,4 @@ class Template(Feature):
         obj.Mesh = st_bridge.arrays_to_mesh(*r["shell"])
         obj.InnerFaces = int(r["inner_faces"])
         self.drop_thickness_map(obj)
-        obj.Status = f"{r['solid']['summary']}; {r['times']['total']:.3f} s"
+        obj.Status = f"{r['solid']['summary']}; {r['times']['initial_template_generation']:.3f} s"

@@ -124,9 +124,15 @@ inline Nearest nearest_on_triangle(const TriangleGeometry& g, const Vec3& p) {
   return n;
 }
 
-/// Closest point of triangle (a, b, c) to p.
+/// Closest point of triangle (a, b, c) to p; exactly a corner when it is one.
 inline Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  return p - nearest_on_triangle(triangle_geometry(a, b, c), p).offset;
+  const Nearest n = nearest_on_triangle(triangle_geometry(a, b, c), p);
+  switch (n.feature) {
+  case kVertex0: return a;
+  case kVertex1: return b;
+  case kVertex2: return c;
+  default: return p - n.offset;
+  }
 }
 
 } // namespace st

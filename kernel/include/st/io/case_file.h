@@ -38,6 +38,14 @@ CaseFile read_case(const std::string& path);
 /// and tubes (the rest at their defaults).
 TemplateOptions template_options(const CaseFile& c);
 
+/// The case as the JSON text of a case file at `path`: the bone relative to that file's folder,
+/// optional keys only when set. parse_case(case_json(c, p), p) gives `c` back.
+std::string case_json(const CaseFile& c, const std::string& path);
+
+/// Writes the case file at `path` (atomically: a temporary file renamed), after checking what it
+/// writes with parse_case (InvalidInput naming the key, nothing written).
+void write_case(const CaseFile& c, const std::string& path);
+
 /// Parses case JSON text; `path` is used for messages and to resolve relative paths.
 CaseFile parse_case(const std::string& text, const std::string& path);
 

@@ -111,4 +111,16 @@ const SleevePreset& find_sleeve_preset(const std::vector<SleevePreset>& presets,
 /// InvalidInput naming the axis when a size is missing from both or the sleeve is impossible.
 TubeSpec tube_from_axis(const PlanAxis& axis, const std::optional<SleevePreset>& sizes);
 
+/// How a plan's drilling axes meet the tubes a case already has.
+enum class PlanTubes { Replace, Add };
+
+/// Puts a plan into a case: its boundary (with its inside point, or none) and its inside point replace
+/// the case's, its axes become tubes (sizes the plan lacks from `sizes`) that replace the case's or
+/// are added to them; what the plan does not give stays. Returns the warnings: the plan's own, and
+/// that the case's inside point is dropped when a new boundary comes without one. Throws InvalidInput
+/// (tube_from_axis) before anything changes. The one way the tool, the module and the workbench
+/// apply plans.
+std::vector<std::string> apply_plan(CaseFile& c, const Plan& plan, const std::optional<SleevePreset>& sizes,
+                                    PlanTubes tubes = PlanTubes::Replace);
+
 } // namespace st

@@ -1,0 +1,88 @@
+#include "st/io/report.h"
+
+namespace st {
+
+nlohmann::json to_json(const SolidReport& r) {
+  return {{"valid", r.valid()},
+          {"closed", r.closed()},
+          {"manifold", r.manifold()},
+          {"oriented", r.oriented()},
+          {"border_edges", r.border_edges},
+          {"nonmanifold_edges", r.nonmanifold_edges},
+          {"nonmanifold_vertices", r.nonmanifold_vertices},
+          {"misoriented_edges", r.misoriented_edges},
+          {"degenerate_triangles", r.degenerate_triangles},
+          {"self_intersections", r.self_intersections},
+          {"components", r.components},
+          {"area", r.area},
+          {"volume", r.volume},
+          {"summary", r.summary()}};
+}
+
+nlohmann::json to_json(const DistanceStats& s) {
+  return {{"min", s.min}, {"max", s.max}, {"mean", s.mean}, {"count", s.count}};
+}
+
+nlohmann::json to_json(const TubePlacement& p) {
+  return {{"name", p.name},
+          {"sleeve", {p.sleeve_bottom, p.sleeve_top}},
+          {"column_bottom", p.column_bottom},
+          {"template", {p.template_bottom, p.template_top}},
+          {"bore", {p.bore_bottom, p.bore_top}},
+          {"inside_template", p.sleeve_inside_template}};
+}
+
+namespace {
+
+nlohmann::json placements(const std::vector<TubePlacement>& tubes) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const TubePlacement& p : tubes) out.push_back(to_json(p));
+  return out;
+}
+
+} // namespace
+
+nlohmann::json to_json(const TemplateResult& r, const TemplateOptions& options) {
+  const TemplateTimes& t = r.times;
+  nlohmann::json out;
+  out["counts"] = {{"edge_points_of_inner_surface", r.inner_rim_points},
+                   {"triangles_of_inner_surface", r.inner.face_count()},
+                   {"points_of_inner_surface", r.inner.vertex_count()},
+                   {"edge_points_of_outer_surface", r.outer_rim_points},
+                   {"triangles_of_outer_surface", r.outer.face_count()},
+                   {"offset_triangles", r.offset_triangles},
+                   {"field_voxels", r.field_voxels},
+                   {"wall_triangles", r.wall_triangles},
+                   {"template_triangles", r.shell.face_count()},
+                   {"drilling_tubes", options.tubes.size()},
+                   {"sampling_step", r.sampling_step},
+                   {"resolution", r.resolution}};
+  out["times"] = {{"inner_surface_segmentation", t.inner_segmentation},
+                  {"offset_of_inner_surface", t.offset},
+                  {"points_for_outer_surface_segmentation", t.outer_points},
+                  {"outer_surface_segmentation", t.outer_segmentation},
+                  {"connection_of_inner_and_outer_surfaces", t.connection},
+                  {"initial_template_generation", t.total},
+                  {"boolean_operation", t.boolean},
+                  {"validation", t.validation}};
+  out["tubes"] = placements(r.tubes);
+  out["boolean"] = {{"perturbed_operations", r.perturbed_operations},
+                    {"max_perturbation_mm", r.max_perturbation},
+                    {"curve_tolerance_mm", r.curve_tolerance}};
+  if (options.check) out["solid"] = to_json(r.solid);
+  if (options.check && options.measure_fit)
+    out["fit"] = {{"inner_to_bone", to_json(r.fit.inner_to_bone)},
+                  {"outer_to_inner", to_json(r.fit.outer_to_inner)},
+                  {"rim_to_curve", to_json(r.fit.rim_to_curve)}};
+  return out;
+}
+
+nlohmann::json to_json(const GuideResult& g) {
+  return {{"tubes", placements(g.tubes)},
+          {"seconds", g.seconds},
+          {"perturbed_operations", g.perturbed_operations},
+          {"max_perturbation_mm", g.max_perturbation},
+          {"curve_tolerance_mm", g.curve_tolerance}};
+}
+
+} // namespace st

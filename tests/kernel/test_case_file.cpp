@@ -1,0 +1,110 @@
+// Case files written back (write_case) and plans applied to cases (apply_plan): the one way the
+// tool, the Python module and the workbench do both.
+
+#include "helpers.h"
+
+#include "st/core/errors.h"
+#include "st/io/case_file.h"
+#include "st/io/plan.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace st;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::path(st::test::output_dir()) / "case_file" / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string example_case(const std::string& name) {
+  return (fs::path(st::test::examples_dir()) / "cases" / (name + ".json")).string();
+}
+
+void expect_same_case(const CaseFile& a, const CaseFile& b) {
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(fs::weakly_canonical(a.bone), fs::weakly_canonical(b.bone));
+  ASSERT_EQ(a.boundary_points.size(), b.boundary_points.size());
+  for (std::size_t i = 0; i < a.boundary_points.size(); ++i) EXPECT_EQ(a.boundary_points[i], b.boundary_points[i]);
+  EXPECT_EQ(a.inside.has_value(), b.inside.has_value());
+  if (a.inside && b.inside) EXPECT_EQ(*a.inside, *b.inside);
+  EXPECT_EQ(a.thickness, b.thickness);
+  EXPECT_EQ(a.clearance, b.clearance);
+  EXPECT_EQ(a.resolution, b.resolution);
+  EXPECT_EQ(a.sampling_step, b.sampling_step);
+  ASSERT_EQ(a.tubes.size(), b.tubes.size());
+  for (std::size_t i = 0; i < a.tubes.size(); ++i) {
+    EXPECT_EQ(a.tubes[i].name, b.tubes[i].name);
+    EXPECT_EQ(a.tubes[i].entry, b.tubes[i].entry);
+    EXPECT_LT((a.tubes[i].direction - b.tubes[i].direction).norm(), 1e-15);
+    EXPECT_EQ(a.tubes[i].outer_radius, b.tubes[i].outer_radius);
+    EXPECT_EQ(a.tubes[i].depth, b.tubes[i].depth);
+  }
+}
+
+} // namespace
+
+TEST(CaseFile, WrittenCaseReadsBackTheSame) {
+  // Every example case, written into another folder (the bone path made relative to it) and read.
+  for (const char* name : {"maxilla-implants", "vertebra-pedicle", "sacrum-iliosacral", "tibia-osteotomy"}) {
+    const CaseFile c = read_case(example_case(name));
+    const fs::path path = scratch(name) / "deeper" / "case.json";
+    fs::create_directories(path.parent_path());
+    write_case(c, path.string());
+    expect_same_case(c, read_case(path.string()));
+  }
+}
+
+TEST(CaseFile, AnInvalidCaseIsRefusedAndNothingIsWritten) {
+  CaseFile c = read_case(example_case("vertebra-pedicle"));
+  c.thickness = -1.0;
+  const fs::path path = scratch("invalid") / "case.json";
+  try {
+    write_case(c, path.string());
+    FAIL() << "a negative thickness was written";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("template.thickness"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_FALSE(fs::exists(path.string() + ".tmp"));
+}
+
+TEST(CaseFile, PlanReplacesOrAddsTubesAndWarnsWhenTheInsidePointGoes) {
+  const CaseFile base = read_case(example_case("vertebra-pedicle"));
+  ASSERT_TRUE(base.inside.has_value());
+  Plan plan;
+  plan.path = "plan.mrk.json";
+  plan.boundary_points = {Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(0, 10, 0)};
+  PlanAxis axis;
+  axis.name = "new";
+  axis.entry = Vec3(1, 2, 3);
+  axis.direction = Vec3(0, 0, -1);
+  plan.axes = {axis};
+  const SleevePreset& sizes = find_sleeve_preset(default_sleeve_presets(), "drill-2.5");
+
+  CaseFile replaced = base;
+  const auto warnings = apply_plan(replaced, plan, sizes);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("inside point is dropped"), std::string::npos);
+  EXPECT_FALSE(replaced.inside.has_value());
+  EXPECT_EQ(replaced.boundary_points, plan.boundary_points);
+  ASSERT_EQ(replaced.tubes.size(), 1u);
+  EXPECT_EQ(replaced.tubes[0].name, "new");
+  EXPECT_DOUBLE_EQ(replaced.tubes[0].outer_radius, sizes.outer_radius);
+
+  CaseFile added = base;
+  apply_plan(added, plan, sizes, PlanTubes::Add);
+  EXPECT_EQ(added.tubes.size(), base.tubes.size() + 1);
+
+  // An axis without sizes and no preset: refused before anything changes.
+  CaseFile untouched = base;
+  EXPECT_THROW(apply_plan(untouched, plan, std::nullopt), InvalidInput);
+  expect_same_case(untouched, base);
+}

@@ -1,0 +1,43 @@
+"""Case files and plans through the module: the kernel's write_case, apply_plan and preset lookup, the
+ones the workbench calls."""
+import os
+
+import numpy as np
+import pytest
+
+from conftest import EXAMPLES
+
+CASES = os.path.join(EXAMPLES, "cases")
+PLANS = os.path.join(EXAMPLES, "plans")
+
+
+def test_written_case_reads_back_the_same(stk, tmp_path):
+    case = stk.read_case(os.path.join(CASES, "maxilla-implants.json"))
+    path = tmp_path / "sub" / "case.json"
+    path.parent.mkdir()
+    stk.write_case(case, str(path))
+    again = stk.read_case(str(path))
+    assert os.path.samefile(again["bone"], case["bone"])
+    assert np.array_equal(again["boundary_points"], case["boundary_points"])
+    assert [t["name"] for t in again["tubes"]] == [t["name"] for t in case["tubes"]]
+    assert again["thickness"] == case["thickness"] and again["clearance"] == case["clearance"]
+
+
+def test_invalid_case_is_refused_and_not_written(stk, tmp_path):
+    case = stk.read_case(os.path.join(CASES, "maxilla-implants.json"))
+    case["tubes"][0]["outer_radius"] = 0.1  # inside the bore
+    with pytest.raises(ValueError, match=r"tubes\[0\]\.outer_radius"):
+        stk.write_case(case, str(tmp_path / "case.json"))
+    assert not os.listdir(tmp_path)
+
+
+def test_plan_applied_to_a_case(stk):
+    case = stk.read_case(os.path.join(CASES, "maxilla-implants.json"))
+    drill = stk.find_sleeve_preset(stk.sleeve_presets(), "DRILL-2.5")  # case ignored
+    assert drill["name"] == "drill-2.5"
+    new, warnings = stk.apply_plan(case, os.path.join(PLANS, "maxilla-implants.csv"), "LPS", drill)
+    assert len(new["tubes"]) == 5 and np.array_equal(new["boundary_points"], case["boundary_points"])
+    added, _ = stk.apply_plan(case, os.path.join(PLANS, "maxilla-implants.csv"), "LPS", drill, add_tubes=True)
+    assert len(added["tubes"]) == len(case["tubes"]) + 5
+    with pytest.raises(ValueError, match="no sleeve preset"):
+        stk.find_sleeve_preset(stk.sleeve_presets(), "no-such-sleeve")
