@@ -213,4 +213,3 @@ Plan read_plan_csv(const std::string& path, Space target) {
 }
 
 } // namespace st
-

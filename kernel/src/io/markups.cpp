@@ -165,4 +165,3 @@ Plan read_markups(const std::string& path, Space target) {
 }
 
 } // namespace st
-

@@ -86,4 +86,3 @@ const SleevePreset& find_sleeve_preset(const std::vector<SleevePreset>& presets,
 }
 
 } // namespace st
-
