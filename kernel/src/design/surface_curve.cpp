@@ -1,5 +1,7 @@
 #include "st/design/surface_curve.h"
 
+#include "design/curve_tracer.h"
+
 #include "st/core/aabb_tree.h"
 #include "detail/format.h"
 #include "st/core/errors.h"
@@ -12,13 +14,7 @@ namespace st {
 
 namespace {
 
-using detail::where;
-
-Vec3 unit_normal(const TriangleMesh& mesh, Index f) {
-  const Vec3 n = triangle_normal(mesh, f);
-  const double len = n.norm();
-  return len > 0.0 ? Vec3(n / len) : Vec3::Zero();
-}
+using namespace curve_detail;
 
 // Barry-Goldman evaluation of a centripetal Catmull-Rom segment between p1 and p2.
 Vec3 catmull_rom(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3, double u) {
@@ -35,142 +31,6 @@ Vec3 catmull_rom(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3,
   const Vec3 b2 = (t3 - t) / (t3 - t1) * a2 + (t - t1) / (t3 - t1) * a3;
   return (t2 - t) / (t2 - t1) * b1 + (t - t1) / (t2 - t1) * b2;
 }
-
-// Closest point to p among the faces connected to `start` that come within `radius` of p.
-ClosestPoint local_closest_point(const MeshTopology& topo, const Vec3& p, Index start, double radius) {
-  const TriangleMesh& mesh = topo.mesh();
-  ClosestPoint best;
-  best.distance = std::numeric_limits<double>::infinity();
-  std::vector<Index> stack{start};
-  std::unordered_set<Index> seen{start};
-  while (!stack.empty()) {
-    const Index f = stack.back();
-    stack.pop_back();
-    const Triangle& t = mesh.triangles[f];
-    const Vec3 q = closest_point_on_triangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-    const double d = (q - p).norm();
-    if (d < best.distance) best = {f, q, d};
-    if (d > radius && f != start) continue;
-    for (Index k = 0; k < 3; ++k) {
-      const Index o = topo.opposite(3 * f + k);
-      if (o == kInvalidIndex) continue;
-      const Index g = o / 3;
-      if (seen.insert(g).second) stack.push_back(g);
-    }
-  }
-  return best;
-}
-
-class CurveTracer {
-public:
-  CurveTracer(const MeshTopology& topo, std::string name) : topo_(topo), mesh_(topo.mesh()), name_(std::move(name)) {}
-
-  // Walks from (a in fa) to (b in fb); appends crossings and their points. Returns false when the
-  // walk could not reach fb (the caller subdivides).
-  bool walk(const Vec3& a, Index fa, const Vec3& b, Index fb, std::vector<EdgeCrossing>& out,
-            std::vector<Vec3>& points) const {
-    if (fa == fb) return true;
-    // Direction of travel: towards b, or, when b (almost) coincides with a on a shared edge or
-    // vertex, from the centre of fa towards the centre of fb.
-    Vec3 dir = b - a;
-    const double scale = std::sqrt(triangle_normal(mesh_, fa).norm()) + 1e-300;
-    if (dir.norm() < 1e-6 * scale) dir = centroid(fb) - centroid(fa);
-    const double dir_len = dir.norm();
-    if (!(dir_len > 0.0)) return false;
-    dir /= dir_len;
-    const Vec3 n = ring_normal(fa) + ring_normal(fb);
-    Vec3 m = dir.cross(n);
-    if (!(m.norm() > 1e-9)) return false;
-    m.normalize();
-    const double target = std::max((b - a).dot(dir), 0.0);
-    Index f = fa;
-    Index entry = kInvalidIndex;
-    for (int step = 0; step < 4096; ++step) {
-      if (f == fb) return true;
-      const Triangle& tri = mesh_.triangles[f];
-      double s[3];
-      double longest = 0.0;
-      for (int k = 0; k < 3; ++k) {
-        s[k] = (mesh_.positions[tri[k]] - a).dot(m);
-        longest = std::max(longest, (mesh_.positions[tri[(k + 1) % 3]] - mesh_.positions[tri[k]]).norm());
-      }
-      Index exit = kInvalidIndex;
-      double exit_t = 0.0;
-      Vec3 exit_x = Vec3::Zero();
-      double best_progress = -std::numeric_limits<double>::infinity();
-      for (Index k = 0; k < 3; ++k) {
-        const Index h = 3 * f + k;
-        if (h == entry) continue;
-        const double su = s[k], sv = s[(k + 1) % 3];
-        if ((su >= 0.0) == (sv >= 0.0)) continue;
-        const double edge = (mesh_.positions[tri[(k + 1) % 3]] - mesh_.positions[tri[k]]).norm();
-        const double margin = std::min(0.5, std::max(tol::kEdgeCutMargin, tol::kMinCutDistance_mm / edge));
-        const double t = std::clamp(su / (su - sv), margin, 1.0 - margin);
-        const Vec3 x = (1.0 - t) * mesh_.positions[tri[k]] + t * mesh_.positions[tri[(k + 1) % 3]];
-        const double progress = (x - a).dot(dir);
-        if (entry != kInvalidIndex || progress > best_progress) {
-          best_progress = progress;
-          exit = h;
-          exit_t = t;
-          exit_x = x;
-        }
-      }
-      if (exit == kInvalidIndex) return false;
-      // The walk must stay between a and b, give or take a triangle.
-      const double progress = (exit_x - a).dot(dir);
-      if (progress > target + 2.0 * longest || progress < -2.0 * longest) return false;
-      const Index o = topo_.opposite(exit);
-      if (o == kInvalidIndex)
-        throw GeometryError(name_ +
-                            ": the curve runs into an open border or a non-manifold edge of the "
-                            "mesh near " +
-                            where(exit_x) + ": move the control points away from holes and the mesh's edge");
-      out.push_back({exit, exit_t});
-      points.push_back(exit_x);
-      f = o / 3;
-      entry = o;
-    }
-    return false;
-  }
-
-  void trace(const Vec3& a, Index fa, const Vec3& b, Index fb, int depth, std::vector<EdgeCrossing>& out,
-             std::vector<Vec3>& points) const {
-    std::vector<EdgeCrossing> c;
-    std::vector<Vec3> p;
-    if (walk(a, fa, b, fb, c, p)) {
-      out.insert(out.end(), c.begin(), c.end());
-      points.insert(points.end(), p.begin(), p.end());
-      return;
-    }
-    if (depth >= 10 || (b - a).norm() < 1e-9)
-      throw GeometryError(name_ + ": cannot follow the surface between " + where(a) + " and " + where(b) +
-                          ": the surface has a gap or a sharp fold there; move the control points");
-    const Vec3 half = 0.5 * (a + b);
-    const ClosestPoint mid = local_closest_point(topo_, half, fa, (b - a).norm() + 1e-9);
-    trace(a, fa, mid.point, mid.face, depth + 1, out, points);
-    points.push_back(mid.point);
-    trace(mid.point, mid.face, b, fb, depth + 1, out, points);
-  }
-
-private:
-  const MeshTopology& topo_;
-  const TriangleMesh& mesh_;
-  std::string name_;
-
-  // Area-weighted normal of the faces around f's corners: robust on sliver triangles.
-  Vec3 ring_normal(Index f) const {
-    Vec3 n = Vec3::Zero();
-    for (Index v : mesh_.triangles[f])
-      for (Index g : topo_.faces_of(v)) n += triangle_normal(mesh_, g);
-    const double len = n.norm();
-    return len > 0.0 ? Vec3(n / len) : unit_normal(mesh_, f);
-  }
-
-  Vec3 centroid(Index f) const {
-    const Triangle& t = mesh_.triangles[f];
-    return (mesh_.positions[t[0]] + mesh_.positions[t[1]] + mesh_.positions[t[2]]) / 3.0;
-  }
-};
 
 double segment_param_2d(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
   const Eigen::Vector2d u = b - a, v = c - a;
@@ -233,6 +93,11 @@ void join_samples(const MeshTopology& topology, const CurveOptions& options, Sur
   for (std::size_t i = 0; i < m; ++i) {
     const std::size_t j = (i + 1) % m;
     events.push_back({curve.samples[i], curve.sample_faces[i]});
+    // A step of zero length is no step: the next sample is this point, in the face the curve is in.
+    if (j != 0 && curve.samples[j] == curve.samples[i]) {
+      curve.sample_faces[j] = curve.sample_faces[i];
+      continue;
+    }
     std::vector<EdgeCrossing> c;
     std::vector<Vec3> p;
     tracer.trace(curve.samples[i], curve.sample_faces[i], curve.samples[j], curve.sample_faces[j], 0, c, p);

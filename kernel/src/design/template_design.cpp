@@ -29,12 +29,14 @@ void check_options(const TemplateOptions& o) {
   auto finite_positive = [](double v) { return std::isfinite(v) && v > 0.0; };
   if (!finite_positive(o.thickness))
     throw InvalidInput("template.thickness must be a finite number > 0 mm, got " + detail::number(o.thickness));
-  if (o.thickness > 50.0)
-    throw InvalidInput("template.thickness " + detail::number(o.thickness) + " mm is absurd (over 50 mm)");
+  if (o.thickness > tol::kMaxThickness_mm)
+    throw InvalidInput("template.thickness " + detail::mm(o.thickness) + " is absurd (over " +
+                       detail::mm(tol::kMaxThickness_mm) + ")");
   if (!std::isfinite(o.clearance) || o.clearance < 0.0)
     throw InvalidInput("template.clearance must be a finite number >= 0 mm, got " + detail::number(o.clearance));
-  if (o.clearance > 5.0)
-    throw InvalidInput("template.clearance " + detail::number(o.clearance) + " mm is absurd (over 5 mm)");
+  if (o.clearance > tol::kMaxClearance_mm)
+    throw InvalidInput("template.clearance " + detail::mm(o.clearance) + " is absurd (over " +
+                       detail::mm(tol::kMaxClearance_mm) + ")");
   if (!std::isfinite(o.resolution) || o.resolution < 0.0)
     throw InvalidInput("template.resolution must be a finite number > 0 mm, got " + detail::number(o.resolution));
   if (o.resolution > tol::kMaxCellSizePerOffset * o.thickness)

@@ -32,6 +32,10 @@ inline constexpr double kMaxCellSizePerOffset = 0.5;
 /// Largest number of distance-field cells a design may use before it is refused (memory budget).
 inline constexpr double kMaxFieldCells = 6.0e7;
 
+/// Limits of a template's thickness and clearance, mm: beyond them a plan is a unit error.
+inline constexpr double kMaxThickness_mm = 50.0;
+inline constexpr double kMaxClearance_mm = 5.0;
+
 /// Limits of a tube's sizes, mm: a sleeve 1 m wide or 10 m long (or offset, or drilled as deep) is
 /// a unit error, not a plan.
 inline constexpr double kMaxTubeRadius_mm = 1e3;
