@@ -15,39 +15,24 @@
 #include "st/design/template_design.h"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <random>
 
 namespace st {
 namespace {
 
-void save_regression(const CaseFile& c, const TubeSpec& t, int k, const std::string& why) {
+/// The failing placement as a case file (the case with this one tube; the failure in its name) in
+/// test-output/regressions, to replay with `surgical-template design`.
+void save_regression(CaseFile c, const TubeSpec& t, int k, const std::string& why) {
   const std::string dir = test::output_dir() + "/regressions";
   std::filesystem::create_directories(dir);
-  nlohmann::json tube = {{"name", t.name},
-                         {"entry", {t.entry.x(), t.entry.y(), t.entry.z()}},
-                         {"direction", {t.direction.x(), t.direction.y(), t.direction.z()}},
-                         {"inner_radius", t.inner_radius},
-                         {"outer_radius", t.outer_radius},
-                         {"length", t.length},
-                         {"offset", t.offset}};
-  nlohmann::json points = nlohmann::json::array();
-  for (const Vec3& p : c.boundary_points) points.push_back({p.x(), p.y(), p.z()});
-  nlohmann::json j = {{"format", kCaseFormat},
-                      {"name", "regression-" + std::to_string(k)},
-                      {"bone", c.bone},
-                      {"boundary", {{"points", points}}},
-                      {"template", {{"thickness", c.thickness}, {"clearance", c.clearance}}},
-                      {"tubes", {tube}},
-                      {"failure", why}};
-  if (c.inside) j["boundary"]["inside"] = {c.inside->x(), c.inside->y(), c.inside->z()};
-  if (c.resolution) j["template"]["resolution"] = *c.resolution;
-  std::ofstream(dir + "/regression-" + std::to_string(k) + ".json") << j.dump(2) << "\n";
+  c.name = "regression-" + std::to_string(k) + " (" + why + ")";
+  c.tubes = {t};
+  c.output.reset();
+  write_case(c, dir + "/regression-" + std::to_string(k) + ".json");
 }
 
 TEST(GuideProperty, RandomSleevesOnARealTemplate) {

@@ -71,7 +71,10 @@ public:
   bool walk(const Vec3& a, Index fa, const Vec3& b, Index fb, std::vector<EdgeCrossing>& out,
             std::vector<Vec3>& points) const {
     if (fa == fb) return true;
-    if (arrive(b, fa, fb, out, points)) return true; // b on an edge or corner fa shares with fb
+    // The faces b lies on (fb, and those sharing the edge or corner of fb it lies on): reaching any of
+    // them is reaching b.
+    const std::vector<Index> at_b = faces_around(b, fb);
+    if (arrive(b, at_b, fa, fb, out, points)) return true;
     // Direction of travel: towards b, or, when b (almost) coincides with a on a shared edge, from the
     // centre of fa towards the centre of fb.
     Vec3 dir = b - a;
@@ -98,7 +101,7 @@ public:
     if (f == kInvalidIndex || !step_to(a, fa, f, out, points)) return false;
     Index entry = kInvalidIndex;
     for (int step = 0; step < 4096; ++step) {
-      if (f == fb || arrive(b, f, fb, out, points)) return true;
+      if (arrive(b, at_b, f, fb, out, points)) return true;
       const Exit e = exit_of(f, entry, plane);
       if (e.exit == kInvalidIndex) return false;
       // The walk must stay between a and b, give or take a triangle.
@@ -250,12 +253,12 @@ private:
     return true;
   }
 
-  /// Whether the walk, in face f, has reached b (given in face fb): f is fb, or shares with it the edge
-  /// or the corner b lies on; then the crossings to fb are appended.
-  bool arrive(const Vec3& b, Index f, Index fb, std::vector<EdgeCrossing>& out, std::vector<Vec3>& points) const {
+  /// Whether the walk, in face f, has reached b (given in face fb; `at_b` = faces_around(b, fb)): f is
+  /// one of at_b; then the crossings from f to fb are appended.
+  bool arrive(const Vec3& b, const std::vector<Index>& at_b, Index f, Index fb, std::vector<EdgeCrossing>& out,
+              std::vector<Vec3>& points) const {
     if (f == fb) return true;
-    const std::vector<Index> around = faces_around(b, fb);
-    if (std::find(around.begin(), around.end(), f) == around.end()) return false;
+    if (std::find(at_b.begin(), at_b.end(), f) == at_b.end()) return false;
     // Join f to fb the way b joins them: around b's corner of fb, or across b's edge of fb.
     std::vector<EdgeCrossing> c;
     std::vector<Vec3> unused;

@@ -16,10 +16,8 @@ enum Feature : int { kFace = 0, kVertex0, kVertex1, kVertex2, kEdge01, kEdge12, 
 struct TriangleGeometry {
   Vec3 a, ab, ac;
   double abab = 0.0, abac = 0.0, acac = 0.0;
-  double inv_gram = 0.0;      // 1 / |ab x ac|^2
-  Vec3 normal = Vec3::Zero(); // unit, zero when degenerate
-  double plane = 0.0;         // normal.a: |normal.p - plane| is a lower bound of the distance
-  bool degenerate = false;    // the smallest angle's sine is below 1e-6: handled as its three edges
+  double inv_gram = 0.0;   // 1 / |ab x ac|^2
+  bool degenerate = false; // the smallest angle's sine is below 1e-6: handled as its three edges
 };
 
 /// The geometry of triangle (a, b, c).
@@ -35,8 +33,6 @@ inline TriangleGeometry triangle_geometry(const Vec3& a, const Vec3& b, const Ve
   const double gram = n.squaredNorm();
   g.degenerate = !(gram > 1e-12 * g.abab * g.acac) || !(gram > 0.0);
   g.inv_gram = g.degenerate ? 0.0 : 1.0 / gram;
-  g.normal = g.degenerate ? Vec3::Zero() : Vec3(n / std::sqrt(gram));
-  g.plane = g.normal.dot(g.a);
   return g;
 }
 

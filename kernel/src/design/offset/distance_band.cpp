@@ -88,7 +88,7 @@ bool DistanceBand::anchors(const Nearest& nearest, std::int32_t t, double d) con
 
 /// Grid index range (stored indices) of the box of triangle t grown by the seed radius.
 std::array<std::array<std::int64_t, 3>, 2> DistanceBand::seed_range(std::size_t t) const {
-  const TriangleGeometry& g = patch_.triangles[t];
+  const PatchTriangle& g = patch_.triangles[t];
   const Vec3 b = g.a + g.ab;
   const Vec3 c = g.a + g.ac;
   const Vec3 lo = g.a.cwiseMin(b).cwiseMin(c).array() - p_.seed_radius;
@@ -104,7 +104,7 @@ std::array<std::array<std::int64_t, 3>, 2> DistanceBand::seed_range(std::size_t 
 /// False when no node of the block lies within the seed radius of triangle t (tested on the ball
 /// around the block's nodes against the triangle's plane and its three edge planes).
 bool DistanceBand::block_may_hold_seeds(std::size_t t, const std::array<std::int64_t, 3>& block) const {
-  const TriangleGeometry& g = patch_.triangles[t];
+  const PatchTriangle& g = patch_.triangles[t];
   if (g.degenerate) return true;
   const Vec3 centre = node_position(8 * block[0], 8 * block[1], 8 * block[2]) + Vec3::Constant(3.5 * p_.h);
   const double reach = p_.seed_radius + 3.5 * std::sqrt(3.0) * p_.h;
@@ -125,7 +125,7 @@ bool DistanceBand::block_may_hold_seeds(std::size_t t, const std::array<std::int
 /// with one or two triangles instead of all within r of it, and every node within r still gets
 /// the exact distance.
 void DistanceBand::rasterize(std::size_t t, std::int32_t b) {
-  const TriangleGeometry& g = patch_.triangles[t];
+  const PatchTriangle& g = patch_.triangles[t];
   const double r = p_.seed_radius;
   const double h = p_.h;
   const Vec3& o = p_.origin;
@@ -312,7 +312,7 @@ DistanceBand::Closest DistanceBand::closest_among(const Vec3& x, const std::int3
   auto consider = [&](std::int32_t t) {
     if (scratch.stamp[t] == current) return;
     scratch.stamp[t] = current;
-    const TriangleGeometry& g = patch_.triangles[t];
+    const PatchTriangle& g = patch_.triangles[t];
     const double plane_distance = g.normal.dot(x) - g.plane; // a lower bound of the distance
     if (plane_distance * plane_distance > best.nearest.squared) return;
     const Nearest n = nearest_on_triangle(g, x);

@@ -27,14 +27,19 @@ Patch build_patch(const TriangleMesh& mesh, bool with_pseudo_normals) {
   patch.edge_of.resize(3 * nf);
   for (std::size_t t = 0; t < nf; ++t) {
     const Triangle& tri = mesh.triangles[t];
-    TriangleGeometry& g = patch.triangles[t];
-    g = triangle_geometry(mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]);
+    PatchTriangle& g = patch.triangles[t];
+    static_cast<TriangleGeometry&>(g) =
+        triangle_geometry(mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]);
+    const Vec3 n = g.ab.cross(g.ac);
+    const double gram = n.squaredNorm();
+    g.normal = g.degenerate ? Vec3::Zero() : Vec3(n / std::sqrt(gram));
+    g.plane = g.normal.dot(g.a);
     patch.face_normals[t] = g.normal;
     if (!g.degenerate) {
       const std::array<Vec3, 3> q = {g.a, g.a + g.ab, g.a + g.ac};
       for (int k = 0; k < 3; ++k) patch.side_normals[t][k] = (q[(k + 1) % 3] - q[k]).cross(g.normal).normalized();
     }
-    patch.area += 0.5 * g.ab.cross(g.ac).norm();
+    patch.area += 0.5 * std::sqrt(gram);
   }
 
   HashMap64 edge_ids(3 * nf / 2 + 16);

@@ -22,9 +22,16 @@ namespace st::offset_detail {
 
 // ---- the patch: per-triangle geometry and pseudo-normals ---------------------------------------------
 
+/// A patch triangle: its closest-point geometry and its plane, whose distance |normal.p - plane| is a
+/// lower bound of the distance to the triangle.
+struct PatchTriangle : TriangleGeometry {
+  Vec3 normal = Vec3::Zero(); // unit, zero when degenerate
+  double plane = 0.0;         // normal.a
+};
+
 struct Patch {
   const TriangleMesh* mesh = nullptr;
-  std::vector<TriangleGeometry> triangles;
+  std::vector<PatchTriangle> triangles;
   std::vector<Vec3> face_normals;                       // unit, zero for degenerate triangles
   std::vector<std::array<Vec3, 3>> side_normals;        // unit outward normals of the planes through each
                                                         // edge perpendicular to the triangle (edge k: k, k+1)
