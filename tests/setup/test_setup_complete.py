@@ -18,6 +18,7 @@ Run by `make test` after every build tree is built (ST_BUILD_DIRS names them, de
 import ast
 import collections
 import glob
+import json
 import os
 import re
 import shutil
@@ -84,12 +85,7 @@ def build_files(build):
     for dep in glob.glob(os.path.join(build, "link-deps", "*.d")):
         files += _depfile_paths(dep)
     files += _cmake_loaded_files(build) + _link_line_paths(build) + _compilers(build)
-    resolved = []
-    for f in files:
-        if not os.path.isabs(f):
-            continue
-        resolved.append(os.path.normpath(f))
-    return resolved
+    return [f for f in files if os.path.isabs(f)]
 
 
 def _imported_names():
@@ -145,7 +141,6 @@ with open(sys.argv[-1], "w") as out:
 
 def python_files(tmp_dir):
     """Files of the modules the Python code imports, imported inside FreeCAD (as the tests run)."""
-    import json
     probe = os.path.join(tmp_dir, "probe.py")
     out = os.path.join(tmp_dir, "probe.json")
     open(probe, "w").write(PROBE)
