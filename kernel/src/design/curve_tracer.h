@@ -67,7 +67,9 @@ public:
   // exactly at a vertex (a control point snapped to it, a sample on it) is a point of every face
   // around the vertex: the walk leaves it from the face of the fan it can go on from, reaches it in
   // whatever face of the fan it arrives in, and turns around the vertex to the face it was given (its
-  // crossings lie next to the vertex). A step of zero length is such a turn, or nothing.
+  // crossings lie next to the vertex and pass through it, EdgeCrossing::through). A step of zero
+  // length is such a turn, or nothing. Points that share a face are joined in it; the caller goes
+  // through a shared vertex (via_vertex) when the plane walk runs along an edge into a vertex.
   bool walk(const Vec3& a, Index fa, const Vec3& b, Index fb, std::vector<EdgeCrossing>& out,
             std::vector<Vec3>& points) const {
     if (fa == fb) return true;
@@ -75,6 +77,15 @@ public:
     // them is reaching b.
     const std::vector<Index> at_b = faces_around(b, fb);
     if (arrive(b, at_b, fa, fb, out, points)) return true;
+    // a and b on one face (a at a vertex or on an edge of a face b lies on): step across to it.
+    const std::vector<Index> at_a = faces_around(a, fa);
+    for (const Index g : at_a) {
+      if (std::find(at_b.begin(), at_b.end(), g) == at_b.end()) continue;
+      const std::size_t n_out = out.size(), n_points = points.size();
+      if (step_to(a, fa, g, out, points) && arrive(b, at_b, g, fb, out, points)) return true;
+      out.resize(n_out);
+      points.resize(n_points);
+    }
     // Direction of travel: towards b, or, when b (almost) coincides with a on a shared edge, from the
     // centre of fa towards the centre of fb.
     Vec3 dir = b - a;
@@ -92,7 +103,7 @@ public:
     // Leave a from the face around it (fa, or one sharing the edge or corner a lies on) from which the
     // walk can go on.
     Index f = kInvalidIndex;
-    for (const Index g : faces_around(a, fa))
+    for (const Index g : at_a)
       if (g == fa ? exit_of(g, kInvalidIndex, plane).exit != kInvalidIndex
                   : exit_of(g, kInvalidIndex, plane, true).exit != kInvalidIndex) {
         f = g;
@@ -109,7 +120,7 @@ public:
       if (progress > target + 2.0 * e.longest || progress < -2.0 * e.longest) return false;
       const Index o = topo_.opposite(e.exit);
       if (o == kInvalidIndex) throw_border(e.x);
-      out.push_back({e.exit, e.t});
+      out.push_back({e.exit, e.t, e.through});
       points.push_back(e.x);
       f = o / 3;
       entry = o;
@@ -121,7 +132,13 @@ public:
              std::vector<Vec3>& points) const {
     std::vector<EdgeCrossing> c;
     std::vector<Vec3> p;
-    if (walk(a, fa, b, fb, c, p)) {
+    bool joined = walk(a, fa, b, fb, c, p);
+    if (!joined) {
+      c.clear();
+      p.clear();
+      joined = via_vertex(a, fa, b, fb, c, p);
+    }
+    if (joined) {
       out.insert(out.end(), c.begin(), c.end());
       points.insert(points.end(), p.begin(), p.end());
       return;
@@ -137,6 +154,32 @@ public:
   }
 
 private:
+  // From a to b through a vertex that a face a lies on and a face b lies on share (the nearer way
+  // round, when there are several): the path when the straight walk runs along an edge into a
+  // vertex, where the plane's sides are decided by rounding.
+  bool via_vertex(const Vec3& a, Index fa, const Vec3& b, Index fb, std::vector<EdgeCrossing>& out,
+                  std::vector<Vec3>& points) const {
+    const std::vector<Index> at_a = faces_around(a, fa), at_b = faces_around(b, fb);
+    Index best = kInvalidIndex, g_best = kInvalidIndex, h_best = kInvalidIndex;
+    double best_length = std::numeric_limits<double>::infinity();
+    for (const Index g : at_a)
+      for (const Index v : mesh_.triangles[g])
+        for (const Index h : at_b) {
+          const Triangle& t = mesh_.triangles[h];
+          if (std::find(t.begin(), t.end(), v) == t.end()) continue;
+          const double length = (mesh_.positions[v] - a).norm() + (b - mesh_.positions[v]).norm();
+          if (length < best_length) {
+            best_length = length;
+            best = v;
+            g_best = g;
+            h_best = h;
+          }
+        }
+    if (best == kInvalidIndex) return false;
+    return step_to(a, fa, g_best, out, points) && turn(best, g_best, h_best, out, points) &&
+           arrive(b, at_b, h_best, fb, out, points);
+  }
+
   const MeshTopology& topo_;
   const TriangleMesh& mesh_;
   std::string name_;
@@ -150,6 +193,7 @@ private:
   struct Exit {
     Index exit = kInvalidIndex;
     double t = 0.0;
+    Index through = kInvalidIndex;
     Vec3 x = Vec3::Zero();
     double longest = 0.0;
   };
@@ -172,13 +216,14 @@ private:
       if (h == entry) continue;
       const double su = s[k], sv = s[(k + 1) % 3];
       if ((su >= 0.0) == (sv >= 0.0)) continue;
-      const double t = std::clamp(su / (su - sv), margin(h), 1.0 - margin(h));
-      const Vec3 x = (1.0 - t) * mesh_.positions[tri[k]] + t * mesh_.positions[tri[(k + 1) % 3]];
+      const EdgeCrossing c = crossing(h, su / (su - sv));
+      const Vec3 x = (1.0 - c.t) * mesh_.positions[tri[k]] + c.t * mesh_.positions[tri[(k + 1) % 3]];
       const double progress = (x - plane.origin).dot(plane.dir);
       if (entry != kInvalidIndex || progress > best_progress) {
         best_progress = progress;
         e.exit = h;
-        e.t = t;
+        e.t = c.t;
+        e.through = c.through;
         e.x = x;
       }
     }
@@ -188,8 +233,15 @@ private:
 
   /// A cut never lands closer to an edge's ends than this fraction of it (tolerances.h).
   double margin(Index h) const {
-    const double edge = (mesh_.positions[topo_.to_vertex(h)] - mesh_.positions[topo_.from_vertex(h)]).norm();
-    return std::min(0.5, std::max(tol::kEdgeCutMargin, tol::kMinCutDistance_mm / edge));
+    return tol::edge_cut_margin((mesh_.positions[topo_.to_vertex(h)] - mesh_.positions[topo_.from_vertex(h)]).norm());
+  }
+
+  /// The crossing of half-edge h at parameter t: within the margin of an end, through that end.
+  EdgeCrossing crossing(Index h, double t) const {
+    const double m = margin(h);
+    EdgeCrossing c{h, std::clamp(t, m, 1.0 - m)};
+    if (t <= m || t >= 1.0 - m) c.through = t < 0.5 ? topo_.from_vertex(h) : topo_.to_vertex(h);
+    return c;
   }
 
   /// Where on face f the point p lies, to rounding (within 1e-9 of the face's longest edge): at a
@@ -247,9 +299,9 @@ private:
     const Index h = where.edge;
     const Vec3& u = mesh_.positions[topo_.from_vertex(h)];
     const Vec3 e = mesh_.positions[topo_.to_vertex(h)] - u;
-    const double t = std::clamp((p - u).dot(e) / e.squaredNorm(), margin(h), 1.0 - margin(h));
-    out.push_back({h, t});
-    points.push_back((1.0 - t) * u + t * mesh_.positions[topo_.to_vertex(h)]);
+    const EdgeCrossing c = crossing(h, (p - u).dot(e) / e.squaredNorm());
+    out.push_back(c);
+    points.push_back((1.0 - c.t) * u + c.t * mesh_.positions[topo_.to_vertex(h)]);
     return true;
   }
 
@@ -267,7 +319,7 @@ private:
     for (std::size_t i = c.size(); i-- > 0;) {
       const Index o = topo_.opposite(c[i].halfedge);
       const double t = 1.0 - c[i].t;
-      out.push_back({o, t});
+      out.push_back({o, t, c[i].through});
       points.push_back((1.0 - t) * mesh_.positions[topo_.from_vertex(o)] + t * mesh_.positions[topo_.to_vertex(o)]);
     }
     return true;
@@ -323,7 +375,7 @@ private:
     for (const auto& [h, face] : best) {
       const bool from_v = topo_.from_vertex(h) == v;
       const double t = from_v ? margin(h) : 1.0 - margin(h);
-      out.push_back({h, t});
+      out.push_back({h, t, v});
       points.push_back((1.0 - t) * mesh_.positions[topo_.from_vertex(h)] + t * mesh_.positions[topo_.to_vertex(h)]);
     }
     return true;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <deque>
+#include <numeric>
 #include <unordered_map>
 
 namespace st {
@@ -20,8 +21,9 @@ std::uint64_t edge_key(Index a, Index b) {
 }
 
 struct EdgeCut {
-  std::vector<double> t; // crossing parameters from the lower to the higher vertex index
-  int left_vote = 0;     // > 0: the higher vertex lies left of the curve
+  std::vector<double> t;      // crossing parameters from the lower to the higher vertex index
+  std::vector<Index> through; // per crossing: the end it passes through (EdgeCrossing::through)
+  int left_vote = 0;          // > 0: the higher vertex lies left of the curve
   Index new_vertex = kInvalidIndex;
   [[nodiscard]] bool odd() const { return t.size() % 2 == 1; }
 };
@@ -42,6 +44,7 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
     const Index u = topology.from_vertex(c.halfedge), v = topology.to_vertex(c.halfedge);
     EdgeCut& e = cuts[edge_key(u, v)];
     e.t.push_back(u < v ? c.t : 1.0 - c.t);
+    e.through.push_back(c.through);
     // Leaving the face through u -> v: v is on the left of the curve.
     e.left_vote += (v > u) ? 1 : -1;
   }
@@ -193,23 +196,37 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
     }
     return it->second;
   };
+  // Region vertices on the curve: cut vertices, and input vertices the curve passes through.
+  std::vector<char> on_curve;
   auto cut_vertex = [&](Index a, Index b) {
     EdgeCut& e = cuts[edge_key(a, b)];
     if (e.new_vertex == kInvalidIndex) {
-      std::vector<double> ts = e.t;
-      std::nth_element(ts.begin(), ts.begin() + static_cast<std::ptrdiff_t>(ts.size() / 2), ts.end());
-      const double t = ts[ts.size() / 2];
+      // The median crossing (by t) of an edge crossed an odd number of times.
+      std::vector<std::size_t> order(e.t.size());
+      std::iota(order.begin(), order.end(), std::size_t{0});
+      const auto mid = order.begin() + static_cast<std::ptrdiff_t>(order.size() / 2);
+      std::nth_element(order.begin(), mid, order.end(), [&](std::size_t i, std::size_t j) { return e.t[i] < e.t[j]; });
+      const double t = e.t[*mid];
       const Index lo = std::min(a, b), hi = std::max(a, b);
-      e.new_vertex = static_cast<Index>(result.region.positions.size());
-      result.region.positions.push_back((1.0 - t) * mesh.positions[lo] + t * mesh.positions[hi]);
-      result.source_vertex.push_back(kInvalidIndex);
-      result.source.push_back({{lo, hi}, t});
+      if (e.through[*mid] != kInvalidIndex) {
+        e.new_vertex = vertex(e.through[*mid]);
+      } else {
+        e.new_vertex = static_cast<Index>(result.region.positions.size());
+        result.region.positions.push_back((1.0 - t) * mesh.positions[lo] + t * mesh.positions[hi]);
+        result.source_vertex.push_back(kInvalidIndex);
+        result.source.push_back({{lo, hi}, t});
+      }
+      on_curve.resize(result.region.positions.size(), 0);
+      on_curve[e.new_vertex] = 1;
     }
     return e.new_vertex;
   };
   auto& tris = result.region.triangles;
   auto& pos = result.region.positions;
-  auto emit = [&](Index a, Index b, Index c) { tris.push_back({a, b, c}); };
+  // A triangle with a repeated corner is one a crossing through a vertex collapsed: there is none.
+  auto emit = [&](Index a, Index b, Index c) {
+    if (a != b && b != c && c != a) tris.push_back({a, b, c});
+  };
 
   // The kept parts of the cut faces.
   for (Index f : cut_faces) {
@@ -227,7 +244,12 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
       while (side[t[r]] == keep) ++r; // the dropped vertex
       const Index a = t[r], b = t[(r + 1) % 3], c = t[(r + 2) % 3];
       const Index x1 = cut_vertex(a, b), vb = vertex(b), vc = vertex(c), x2 = cut_vertex(c, a);
-      if ((pos[x1] - pos[vc]).squaredNorm() <= (pos[vb] - pos[x2]).squaredNorm()) {
+      // Through the dropped vertex a, the diagonal from the other crossing would run along an edge
+      // (a flat triangle): take the diagonal from a then.
+      const auto at_a = new_index.find(a);
+      const bool through_a1 = at_a != new_index.end() && x1 == at_a->second;
+      const bool through_a2 = at_a != new_index.end() && x2 == at_a->second;
+      if (through_a2 || (!through_a1 && (pos[x1] - pos[vc]).squaredNorm() <= (pos[vb] - pos[x2]).squaredNorm())) {
         emit(x1, vb, vc);
         emit(x1, vc, x2);
       } else {
@@ -243,13 +265,24 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
   }
   result.area = surface_area(result.region);
 
-  // 4. The rim: the border loop made of cut vertices.
+  // 4. The rim: the border loop made of the vertices on the curve. A curve that passes through a
+  //    vertex twice pinches the region there.
+  on_curve.resize(result.region.positions.size(), 0);
   const MeshTopology region_topology(result.region);
-  const auto loops = border_loops(result.region, region_topology.all_opposites());
+  const std::vector<Index> opposites = region_topology.all_opposites();
+  std::vector<char> border_out(result.region.positions.size(), 0);
+  for (Index h = 0; h < opposites.size(); ++h) {
+    if (opposites[h] != kInvalidIndex) continue;
+    const Index v = result.region.triangles[h / 3][h % 3];
+    if (border_out[v]++)
+      throw GeometryError("the boundary curve touches itself (it passes twice through the mesh vertex at " +
+                          where(pos[v]) + "): move the control points apart there");
+  }
+  const auto loops = border_loops(result.region, opposites);
   int rim = -1;
   for (std::size_t i = 0; i < loops.size(); ++i) {
     bool all_cut = true;
-    for (Index v : loops[i]) all_cut = all_cut && result.source_vertex[v] == kInvalidIndex;
+    for (Index v : loops[i]) all_cut = all_cut && on_curve[v];
     if (!all_cut) continue;
     if (rim >= 0)
       throw GeometryError("the boundary curve cuts the surface into more than one border loop near " +

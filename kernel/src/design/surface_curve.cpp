@@ -86,6 +86,7 @@ void join_samples(const MeshTopology& topology, const CurveOptions& options, Sur
     Index face;                     // the face the curve is in after this event
     Index halfedge = kInvalidIndex; // crossings only
     double t = 0.0;
+    Index through = kInvalidIndex;
   };
   const CurveTracer tracer(topology, options.name);
   std::vector<Event> events;
@@ -108,7 +109,7 @@ void join_samples(const MeshTopology& topology, const CurveOptions& options, Sur
                                     c[ci].t * mesh.positions[topology.to_vertex(c[ci].halfedge)]))
                                    .squaredNorm() == 0.0;
       if (crossing) {
-        events.push_back({p[k], topology.opposite(c[ci].halfedge) / 3, c[ci].halfedge, c[ci].t});
+        events.push_back({p[k], topology.opposite(c[ci].halfedge) / 3, c[ci].halfedge, c[ci].t, c[ci].through});
         ++ci;
       } else {
         events.push_back({p[k], events.back().face});
@@ -135,7 +136,7 @@ void join_samples(const MeshTopology& topology, const CurveOptions& options, Sur
   for (const Event& e : kept) {
     curve.polyline.push_back(e.point);
     point_faces.push_back(e.face);
-    if (e.halfedge != kInvalidIndex) curve.crossings.push_back({e.halfedge, e.t});
+    if (e.halfedge != kInvalidIndex) curve.crossings.push_back({e.halfedge, e.t, e.through});
   }
   for (std::size_t i = 0; i < curve.polyline.size(); ++i)
     curve.length += (curve.polyline[(i + 1) % curve.polyline.size()] - curve.polyline[i]).norm();

@@ -5,12 +5,21 @@
 namespace st::tol {
 
 /// A cut never lands closer than this fraction of an edge's length to its end points, so no sliver
-/// triangle is made (the cut moves by at most this fraction of an edge).
+/// triangle is made: a crossing closer than that to an end passes through the end instead (the cut
+/// moves by at most this fraction of an edge).
 inline constexpr double kEdgeCutMargin = 1e-3;
 
 /// ... and never closer than this to them, mm: STL stores float32 (about 6e-5 mm apart at 1 m from
 /// the origin), so points closer than this could merge in the file and leave zero-area triangles.
 inline constexpr double kMinCutDistance_mm = 2e-3;
+
+/// The margin of an edge of this length, as a fraction of it: the larger of the two above, at most
+/// half the edge. A crossing within the margin of an end is a crossing through that end (the cut
+/// passes through the vertex; see cut.h).
+inline double edge_cut_margin(double edge_length) {
+  const double fraction = edge_length > 0.0 ? kMinCutDistance_mm / edge_length : 0.5;
+  return fraction < kEdgeCutMargin ? kEdgeCutMargin : (fraction > 0.5 ? 0.5 : fraction);
+}
 
 /// Relative step of the cut-curve samples, as a fraction of the mean edge length of the surface.
 inline constexpr double kCurveSampleSpacing = 0.5;

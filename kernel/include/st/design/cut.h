@@ -4,7 +4,9 @@
 //
 // The paper gives every vertex a signed distance to the curve and clips at zero; its sign heuristic
 // fails where the surface folds back near the curve. Here the sides are decided by topology instead:
-// an edge is cut where the curve crosses it an odd number of times, at the exact crossing point; the
+// an edge is cut where the curve crosses it an odd number of times, at the exact crossing point (or,
+// within the edge's cut margin of an end, at the end: the curve passes through that vertex, which
+// becomes a rim vertex, and no sliver is made next to it, tolerances.h); the
 // vertices on the left and on the right of every cut edge seed two floods across uncut manifold
 // edges. The side that closes first (or the one holding the `inside` point) is the region. When the
 // two floods meet, the curve does not separate the surface (it runs around a handle or through a
@@ -35,6 +37,7 @@ struct CutResult {
   TriangleMesh region;              ///< the kept part, triangles oriented as in the input
   std::vector<Index> rim;           ///< the region's border loop (region vertex indices), region on its left
   std::vector<Index> source_vertex; ///< per region vertex: the input vertex, or kInvalidIndex for a cut vertex
+                                    ///< (a rim vertex the curve passes through is an input vertex)
   /// Where a cut vertex lies: (1 - t) * input[edge[0]] + t * input[edge[1]]. For input vertices the
   /// edge is (v, v) and t = 0.
   struct Source {

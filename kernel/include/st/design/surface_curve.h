@@ -40,9 +40,12 @@ struct CurveOptions {
 };
 
 /// The curve leaves face `halfedge / 3` through that half-edge, at from + t * (to - from).
+/// Within the edge's cut margin of an end (tolerances.h), the curve passes through that end instead:
+/// `through` is that vertex, t stays at the margin.
 struct EdgeCrossing {
   Index halfedge = kInvalidIndex;
   double t = 0.5;
+  Index through = kInvalidIndex;
 };
 
 struct SurfaceCurve {
