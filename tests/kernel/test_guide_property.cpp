@@ -81,6 +81,7 @@ TEST(GuideProperty, RandomSleevesOnARealTemplate) {
       if (!r.valid() || r.components != 1) {
         ++failures;
         save_regression(c, tube, k, r.summary());
+        if (only >= 0) write_stl(g.mesh, test::output_dir() + "/replay-guide.stl");
         ADD_FAILURE() << tube.name << ": " << r.summary();
         continue;
       }

@@ -407,8 +407,9 @@ private:
   // A curve point within a few hundred float ulp of a neighbour makes sliver faces whose planes turn
   // by whole degrees when their corners are rounded to float32, enough for two nearly tangent faces
   // to cross. Such edges are collapsed onto their other end (the original vertex when one is), which
-  // moves the curve by less than their length; the link condition keeps the mesh 2-manifold and no
-  // face may turn over. Returns the number of collapses; `fresh` and `unchanged` follow the faces.
+  // moves the curve by less than their length; the link condition keeps the mesh 2-manifold, no
+  // face may turn over and no moved face may cross a face around the edge. When the curve point may
+  // not move onto its neighbour, the neighbour may move onto it if it is a curve point too.
   static std::size_t collapse_short_edges(BooleanResult& r, const std::vector<std::uint8_t>& seam_vertex,
                                           double min_length, std::vector<Index>& fresh, std::vector<Index>& unchanged) {
     TriangleMesh& m = r.mesh;
@@ -437,12 +438,9 @@ private:
     auto normal = [&](const Triangle& t) -> Vec3 {
       return (m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]);
     };
-    for (const auto& e : edges) {
-      Index keep = e.second.first, drop = e.second.second;
-      if (gone[keep] || gone[drop]) continue;
-      if (seam_vertex[keep] && !seam_vertex[drop]) std::swap(keep, drop);
-      std::vector<Index> shared, others;
-      std::vector<Index> around_drop, around_keep;
+    // Moves `drop` onto `keep` when that is allowed; returns whether it did.
+    auto collapse = [&](Index keep, Index drop) {
+      std::vector<Index> shared, others, around_drop, around_keep;
       for (Index f : faces_of[drop]) {
         if (removed[f]) continue;
         const Triangle& t = m.triangles[f];
@@ -451,7 +449,7 @@ private:
         for (Index w : t)
           if (w != drop) around_drop.push_back(w);
       }
-      if (shared.size() != 2) continue;
+      if (shared.size() != 2) return false;
       for (Index f : faces_of[keep])
         if (!removed[f])
           for (Index w : m.triangles[f])
@@ -463,25 +461,42 @@ private:
       std::vector<Index> common;
       std::set_intersection(around_drop.begin(), around_drop.end(), around_keep.begin(), around_keep.end(),
                             std::back_inserter(common));
-      if (common.size() != 2) continue; // link condition: only the two opposite corners are shared
-      bool turns = false;
-      for (Index f : others) {
+      if (common.size() != 2) return false; // link condition: only the two opposite corners are shared
+      // No moved face may turn over or cross a face around the edge (a fold the normals do not show).
+      std::vector<Index> near = faces_of[keep];
+      near.insert(near.end(), others.begin(), others.end());
+      auto moved = [&](Index f) {
         Triangle t = m.triangles[f];
-        const Vec3 before = normal(t);
-        for (Index& w : t)
-          if (w == drop) w = keep;
+        std::replace(t.begin(), t.end(), drop, keep);
+        return t;
+      };
+      for (Index f : others) {
+        const Triangle t = moved(f);
         const Vec3 after = normal(t);
-        if (!(after.dot(before) > 0.0) || after.squaredNorm() == 0.0) turns = true;
+        if (!(after.dot(normal(m.triangles[f])) > 0.0) || after.squaredNorm() == 0.0) return false;
+        const std::array<Vec3, 3> pt = {m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]};
+        for (Index g : near) {
+          if (g == f || removed[g] || std::find(shared.begin(), shared.end(), g) != shared.end()) continue;
+          const Triangle u = moved(g);
+          if (mesh_triangles_intersect(t, pt, u, {m.positions[u[0]], m.positions[u[1]], m.positions[u[2]]}))
+            return false;
+        }
       }
-      if (turns) continue;
       for (Index f : shared) removed[f] = 1;
       for (Index f : others) {
-        for (Index& w : m.triangles[f])
-          if (w == drop) w = keep;
+        m.triangles[f] = moved(f);
         faces_of[keep].push_back(f);
       }
       gone[drop] = 1;
       ++collapses;
+      return true;
+    };
+    for (const auto& e : edges) {
+      Index keep = e.second.first, drop = e.second.second;
+      if (gone[keep] || gone[drop]) continue;
+      if (seam_vertex[keep] && !seam_vertex[drop]) std::swap(keep, drop);
+      // Onto the original vertex when one is; between two curve points, either way.
+      if (!collapse(keep, drop) && seam_vertex[keep]) collapse(drop, keep);
     }
     if (collapses == 0) return 0;
     // Compact faces and vertices.
@@ -544,13 +559,14 @@ private:
     };
     const AabbTree tree(out, fresh);
     tree.for_each_overlapping_pair(test);
-    std::vector<std::uint8_t> touched(out.vertex_count(), 0);
-    for (Index f : fresh)
-      for (Index v : out.triangles[f]) touched[v] = 1;
+    // Every unchanged face near them, not only those sharing a corner: a collapse can swing a fresh
+    // face through a face a little way off.
+    BoundingBox near;
+    for (Index f : fresh) near.extend(triangle_box(out, f));
     for (Index g : unchanged) {
-      const Triangle& t = out.triangles[g];
-      if (!touched[t[0]] && !touched[t[1]] && !touched[t[2]]) continue;
-      tree.for_each_in_box(triangle_box(out, g), [&](Index f) { test(f, g); });
+      const BoundingBox box = triangle_box(out, g);
+      if (!box.overlaps(near)) continue;
+      tree.for_each_in_box(box, [&](Index f) { test(f, g); });
     }
   }
 

@@ -30,6 +30,100 @@ struct EdgeCut {
 
 constexpr signed char kLeft = 1, kRight = -1;
 
+// Rim vertices closer than tol::kMinCutDistance_mm to the next one along the rim (a crossing next
+// to a vertex the curve passes through, on a sliver triangle of the surface) are merged, the input
+// vertex kept when one is: rounded to float they could fold the faces between them. A merge that
+// would break the link condition or turn a face over is not made.
+void merge_close_rim_vertices(CutResult& r) {
+  TriangleMesh& m = r.region;
+  const double limit2 = tol::kMinCutDistance_mm * tol::kMinCutDistance_mm;
+  std::vector<std::vector<Index>> faces_of(m.vertex_count());
+  for (Index f = 0; f < m.face_count(); ++f)
+    for (Index v : m.triangles[f]) faces_of[v].push_back(f);
+  std::vector<char> removed(m.face_count(), 0), gone(m.vertex_count(), 0);
+  auto neighbours = [&](Index v) {
+    std::vector<Index> out;
+    for (Index f : faces_of[v])
+      if (!removed[f])
+        for (Index w : m.triangles[f])
+          if (w != v) out.push_back(w);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  };
+  auto normal = [&](const Triangle& t) {
+    return Vec3((m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]));
+  };
+  auto merge = [&](Index keep, Index drop) {
+    std::vector<Index> between, moved;
+    for (Index f : faces_of[drop]) {
+      if (removed[f]) continue;
+      const Triangle& t = m.triangles[f];
+      (std::find(t.begin(), t.end(), keep) != t.end() ? between : moved).push_back(f);
+    }
+    if (between.size() != 1) return false; // (keep, drop) is a border edge: one face
+    std::vector<Index> common;
+    const std::vector<Index> nk = neighbours(keep), nd = neighbours(drop);
+    std::set_intersection(nk.begin(), nk.end(), nd.begin(), nd.end(), std::back_inserter(common));
+    if (common.size() != 1) return false;
+    for (Index f : moved) {
+      Triangle t = m.triangles[f];
+      const Vec3 before = normal(t);
+      std::replace(t.begin(), t.end(), drop, keep);
+      const Vec3 after = normal(t);
+      if (!(after.dot(before) > 0.0)) return false;
+    }
+    removed[between[0]] = 1;
+    for (Index f : moved) {
+      std::replace(m.triangles[f].begin(), m.triangles[f].end(), drop, keep);
+      faces_of[keep].push_back(f);
+    }
+    gone[drop] = 1;
+    return true;
+  };
+  // Along the rim, each vertex against the last one kept (and the last against the first); the rim
+  // keeps at least 3 vertices.
+  std::vector<Index> rim;
+  auto try_merge = [&](Index a, Index b) { // a before b on the rim; returns the one kept, or nothing
+    if ((m.positions[b] - m.positions[a]).squaredNorm() >= limit2) return kInvalidIndex;
+    const bool keep_b = r.source_vertex[b] != kInvalidIndex && r.source_vertex[a] == kInvalidIndex;
+    if (keep_b ? merge(b, a) : merge(a, b)) return keep_b ? b : a;
+    return kInvalidIndex;
+  };
+  for (std::size_t i = 0; i < r.rim.size(); ++i) {
+    const Index b = r.rim[i];
+    if (!rim.empty() && rim.size() + (r.rim.size() - i) > 3)
+      if (const Index kept = try_merge(rim.back(), b); kept != kInvalidIndex) {
+        rim.back() = kept;
+        continue;
+      }
+    rim.push_back(b);
+  }
+  if (rim.size() > 3)
+    if (const Index kept = try_merge(rim.back(), rim.front()); kept != kInvalidIndex) {
+      rim.front() = kept;
+      rim.pop_back();
+    }
+  if (rim.size() == r.rim.size()) return;
+  // Compact.
+  std::vector<Index> new_index(m.vertex_count(), kInvalidIndex);
+  CutResult out;
+  for (Index v = 0; v < m.vertex_count(); ++v) {
+    if (gone[v]) continue;
+    new_index[v] = static_cast<Index>(out.region.positions.size());
+    out.region.positions.push_back(m.positions[v]);
+    out.source_vertex.push_back(r.source_vertex[v]);
+    out.source.push_back(r.source[v]);
+  }
+  for (Index f = 0; f < m.face_count(); ++f)
+    if (!removed[f])
+      out.region.triangles.push_back(
+          {new_index[m.triangles[f][0]], new_index[m.triangles[f][1]], new_index[m.triangles[f][2]]});
+  for (Index v : rim) out.rim.push_back(new_index[v]);
+  out.area = surface_area(out.region);
+  r = std::move(out);
+}
+
 } // namespace
 
 CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, const CutOptions& options) {
@@ -275,8 +369,8 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
     if (opposites[h] != kInvalidIndex) continue;
     const Index v = result.region.triangles[h / 3][h % 3];
     if (border_out[v]++)
-      throw GeometryError("the boundary curve touches itself (it passes twice through the mesh vertex at " +
-                          where(pos[v]) + "): move the control points apart there");
+      throw CurveCrossesItself("the boundary curve touches itself (it passes twice through the mesh vertex at " +
+                               where(pos[v]) + "): move the control points apart there");
   }
   const auto loops = border_loops(result.region, opposites);
   int rim = -1;
@@ -284,9 +378,11 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
     bool all_cut = true;
     for (Index v : loops[i]) all_cut = all_cut && on_curve[v];
     if (!all_cut) continue;
+    // A second border loop on the curve: the curve crosses itself (around a vertex or a few faces).
     if (rim >= 0)
-      throw GeometryError("the boundary curve cuts the surface into more than one border loop near " +
-                          where(pos[loops[i][0]]));
+      throw CurveCrossesItself("the boundary curve crosses itself: it cuts the surface into more than one "
+                               "border loop near " +
+                               where(pos[loops[i][0]]));
     rim = static_cast<int>(i);
   }
   if (rim < 0) throw GeometryError("the cut region has no border along the boundary curve");
@@ -298,6 +394,7 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
                             where(pos[loops[i][0]]) + ": move the boundary around it or repair the mesh");
   }
   result.rim = loops[static_cast<std::size_t>(rim)];
+  merge_close_rim_vertices(result);
   return result;
 }
 

@@ -21,6 +21,9 @@ inline double edge_cut_margin(double edge_length) {
   return fraction < kEdgeCutMargin ? kEdgeCutMargin : (fraction > 0.5 ? 0.5 : fraction);
 }
 
+/// The offset's grid nodes lie this fraction of a cell below the patch's bounding box (offset.cpp).
+inline constexpr double kGridOriginShift = 0.3819660112501051;
+
 /// Relative step of the cut-curve samples, as a fraction of the mean edge length of the surface.
 inline constexpr double kCurveSampleSpacing = 0.5;
 

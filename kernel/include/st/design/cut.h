@@ -6,7 +6,8 @@
 // fails where the surface folds back near the curve. Here the sides are decided by topology instead:
 // an edge is cut where the curve crosses it an odd number of times, at the exact crossing point (or,
 // within the edge's cut margin of an end, at the end: the curve passes through that vertex, which
-// becomes a rim vertex, and no sliver is made next to it, tolerances.h); the
+// becomes a rim vertex, and no sliver is made next to it, tolerances.h; rim vertices closer than
+// tol::kMinCutDistance_mm to each other are merged, so the rim lies within twice that of the curve); the
 // vertices on the left and on the right of every cut edge seed two floods across uncut manifold
 // edges. The side that closes first (or the one holding the `inside` point) is the region. When the
 // two floods meet, the curve does not separate the surface (it runs around a handle or through a
@@ -51,7 +52,8 @@ struct CutResult {
 /// Cuts `topology.mesh()` along `curve` (from trace_surface_curve on the same topology).
 /// Throws GeometryError when the curve does not separate the surface, when the region contains an
 /// open border (with require_closed_region), or when its border is not one simple loop; the message
-/// says where.
+/// says where. A border that shows the curve crosses or touches itself (a second loop on the curve,
+/// a vertex it passes twice) is CurveCrossesItself, so that callers can retry with other samples.
 CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, const CutOptions& options = {});
 
 } // namespace st

@@ -4,10 +4,10 @@
 // the template thickness T.
 //
 // Method.
-//  1. Grid nodes x = origin + h*(i, j, k) (origin = bounding-box minimum of the input, integer
-//     i, j, k) are stored sparsely, in 8x8x8 blocks found through a hash map; only blocks the band
-//     touches exist, so memory grows with the band (about area * 2(T + 4h) / h^3 nodes, 8 bytes
-//     each plus a little per block), not with the bounding box.
+//  1. Grid nodes x = origin + h*(i, j, k) (origin = bounding-box minimum of the input less 0.38 h on
+//     each axis, tol::kGridOriginShift; integer i, j, k) are stored sparsely, in 8x8x8 blocks found
+//     through a hash map; only blocks the band touches exist, so memory grows with the band (about
+//     area * 2(T + 4h) / h^3 nodes, 8 bytes each plus a little per block), not with the bounding box.
 //  2. Seed: the exact point-triangle distance of every node within 1.5 h of the patch (each
 //     triangle evaluates only the nodes whose closest point can lie on it).
 //  3. Band growth, one layer of 26-neighbours at a time, while d <= T + 2h: a new node evaluates

@@ -93,7 +93,12 @@ OffsetResult offset_surface(const TriangleMesh& surface, const OffsetOptions& op
   }
 
   BandParams params;
-  params.origin = box.min;
+  // Nodes sit off the patch's bounding box by a fraction of a cell far from any simple ratio (2 -
+  // golden ratio): a flat, axis-aligned patch (a CAD mesh, a grid; its bounding box in its plane)
+  // offset by a round thickness (a whole or half number of cells, as the defaults and round user
+  // values give) would otherwise put the whole offset sheet on grid nodes, which the iso margin
+  // resolves into thousands of micrometre triangles.
+  params.origin = box.min - tol::kGridOriginShift * h * Vec3::Ones();
   params.h = h;
   params.iso = distance;
   params.limit = distance + 2.0 * h;
