@@ -322,6 +322,16 @@ TEST(ExactPositions, SquareOnTheGridVerticesOfAFlatFace) {
                         {{10, 10, 0}, {30, 10, 0}, {30, 30, 0}, {10, 30, 0}}, Vec3(20, 20, 0));
 }
 
+TEST(ExactPositions, LoopAroundARoundedCornerOnGridVertices) {
+  // Was: "the offset surface is missing above the inner surface near (28.37, 28.37, 28.37)". Six grid
+  // vertices on the flat parts of the three faces around a corner rounded with radius 5, and the
+  // same hexagon with its corners at the edge midpoints next to them.
+  const TriangleMesh box = make_rounded_box(20.0, 5.0, 1.0);
+  expect_valid_template(box, {{20, 8, 14}, {20, 14, 8}, {14, 20, 8}, {8, 20, 14}, {8, 14, 20}, {14, 8, 20}});
+  expect_valid_template(box, {{20, 8.5, 14}, {20, 14, 8.5}, {14, 20, 8.5}, {8.5, 20, 14}, {8.5, 14, 20}, {14, 8.5, 20}},
+                        Vec3(20, 14, 14));
+}
+
 TEST(ExactPositions, HalfCylinderLoopOnRingsOfVertices) {
   // Points at 0, 45, ..., 180 degrees on two rings of a 160-segment cylinder with 1 mm rings: every
   // spline sample between them lies on a ring of vertices. Also moved off them at random by up to
