@@ -101,7 +101,7 @@ void bind_template(py::module_& m) {
       "design_template",
       [](const Points& v, const Faces& f, const Points& boundary_points, double thickness, double clearance,
          double resolution, int sampling_step, const py::object& inside, double max_snap_distance, bool check,
-         bool simplify_outer, const py::object& tubes, double tube_tolerance, bool fit) {
+         bool simplify_outer, const py::object& tubes, double tube_tolerance, bool fit, const py::object& insertion) {
         const TriangleMesh bone = to_mesh(v, f, "bone");
         TemplateOptions o;
         o.boundary_points = to_points(boundary_points, "boundary_points");
@@ -116,6 +116,15 @@ void bind_template(py::module_& m) {
         o.simplify_outer = simplify_outer;
         o.tubes = to_tubes(tubes);
         o.tube_tolerance = tube_tolerance;
+        if (!insertion.is_none()) {
+          o.analyse_insertion = true;
+          if (py::isinstance<py::str>(insertion)) {
+            if (insertion.cast<std::string>() != "auto")
+              throw InvalidInput("insertion: must be \"auto\", an [x, y, z] direction or None");
+          } else {
+            o.insertion = to_optional_point(insertion, "insertion");
+          }
+        }
         TemplateResult r;
         {
           py::gil_scoped_release release;
@@ -131,18 +140,23 @@ void bind_template(py::module_& m) {
         d["curve"] = from_points(r.curve);
         d["outer_curve"] = from_points(r.outer_curve);
         if (o.check) d["solid"] = solid_dict(r.solid);
+        if (r.insertion.analysed)
+          d["insertion"]["hidden"] =
+              py::array_t<float>(static_cast<py::ssize_t>(r.insertion.hidden.size()), r.insertion.hidden.data());
         return d;
       },
       py::arg("vertices"), py::arg("triangles"), py::arg("boundary_points"), py::arg("thickness"),
       py::arg("clearance") = 0.0, py::arg("resolution") = 0.0, py::arg("sampling_step") = 0,
       py::arg("inside") = py::none(), py::arg("max_snap_distance") = tol::kMaxSnapDistance_mm, py::arg("check") = true,
       py::arg("simplify_outer") = false, py::arg("tubes") = py::none(), py::arg("tube_tolerance") = 0.01,
-      py::arg("fit") = true,
+      py::arg("fit") = true, py::arg("insertion") = py::none(),
       "Designs the template (closed shell) on a bone mesh, with its drilling tubes (dicts with the case file's "
       "tube keys) merged and bored. Returns a dict with 'shell' (the guide), 'body' (before the tubes; its first "
       "'inner_faces' faces are the inner surface), 'inner', 'outer' (each (vertices, triangles)), 'from_tube' "
       "(per shell face), 'tubes' (placements), 'curve', and the report's 'counts', 'times' (s), 'boolean', 'solid' and "
-      "(with fit=True) 'fit' (the keys of the tool's --report, st/io/report.h).");
+      "(with fit=True) 'fit' (the keys of the tool's --report, st/io/report.h). insertion='auto' or a direction "
+      "adds 'insertion' (direction, auto, region_area_mm2, undercut_area_mm2, and 'hidden': per inner-surface face, "
+      "the fraction the guide cannot reach; undercuts are measured, not yet blocked out).");
 
   m.def(
       "add_tubes",

@@ -141,7 +141,8 @@ inline py::dict tube_dict(const TubeSpec& t) {
 }
 
 /// A case (CaseFile) as read_case returns it: {path, name, bone, boundary_points, inside, thickness,
-/// clearance, resolution, sampling_step, tubes, output, warnings}; missing optionals are None.
+/// clearance, resolution, sampling_step, insertion ("auto", an (3,) array or None), tubes, output,
+/// warnings}; missing optionals are None.
 inline py::dict case_dict(const CaseFile& c) {
   const auto optional = [](const auto& v) { return v ? py::cast(*v) : py::object(py::none()); };
   py::dict d;
@@ -154,6 +155,9 @@ inline py::dict case_dict(const CaseFile& c) {
   d["clearance"] = c.clearance;
   d["resolution"] = optional(c.resolution);
   d["sampling_step"] = optional(c.sampling_step);
+  d["insertion"] = c.insertion        ? py::object(from_points({*c.insertion}).attr("reshape")(3))
+                   : c.insertion_auto ? py::object(py::str("auto"))
+                                      : py::object(py::none());
   py::list tubes;
   for (const TubeSpec& t : c.tubes) tubes.append(tube_dict(t));
   d["tubes"] = tubes;
@@ -178,6 +182,15 @@ inline CaseFile to_case(const py::dict& d) {
   if (has("clearance")) c.clearance = d["clearance"].cast<double>();
   if (has("resolution")) c.resolution = d["resolution"].cast<double>();
   if (has("sampling_step")) c.sampling_step = d["sampling_step"].cast<int>();
+  if (has("insertion")) {
+    if (py::isinstance<py::str>(d["insertion"])) {
+      if (d["insertion"].cast<std::string>() != "auto")
+        throw InvalidInput("insertion: must be \"auto\", an [x, y, z] direction or None");
+      c.insertion_auto = true;
+    } else {
+      c.insertion = to_optional_point(py::object(d["insertion"]), "insertion");
+    }
+  }
   if (has("tubes")) c.tubes = to_tubes(d["tubes"]);
   if (has("output")) c.output = py::str(d["output"]).cast<std::string>();
   return c;

@@ -227,6 +227,11 @@ int design(int argc, char** argv) {
   std::printf("  times (s): inner %.3f  offset %.3f  outer points %.3f  outer cut %.3f  connection %.3f  total %.3f\n",
               t.inner_segmentation, t.offset, t.outer_points, t.outer_segmentation, t.connection, t.total);
   if (!r.tubes.empty()) std::printf("  %zu drilling tube(s) merged and bored in %.3f s\n", r.tubes.size(), t.boolean);
+  if (r.insertion.analysed)
+    std::printf("  insertion: along (%.3f, %.3f, %.3f)%s; undercut %.1f of %.1f mm^2 (not blocked out) in %.3f s\n",
+                r.insertion.direction.x(), r.insertion.direction.y(), r.insertion.direction.z(),
+                r.insertion.automatic ? ", the least-undercut direction" : "", r.insertion.undercut_area_mm2,
+                r.insertion.region_area_mm2, t.insertion);
 
   if (!report_path.empty()) {
     nlohmann::json rep = st::to_json(r, o);

@@ -57,3 +57,14 @@ def test_case_round_trip(run):
     assert case["tubes"][0]["outer_radius"] == pytest.approx(3.8)
     assert valid(run["roundtrip"])
     assert run["roundtrip"]["volume"] == pytest.approx(run["reopened"]["volume"], rel=1e-9)
+
+
+def test_insertion_is_kept_by_cases_and_measured(run):
+    ins = run["insertion"]
+    # The example case has no template.insertion: the template makes no analysis, and saving keeps it so.
+    assert ins["loaded"] == "None" and ins["roundtrip"] == "None"
+    assert "insertion" not in run["roundtrip_case"]["template"]
+    # Asked for the least-undercut direction, the template reports its undercut; the case says "auto".
+    assert ins["auto_case"] == "auto"
+    assert "undercut" in ins["auto_status"]
+    assert ins["auto_undercut"] >= 0.0

@@ -83,4 +83,14 @@ saved = st.save_case(guide, os.path.join(out, "roundtrip.json"))
 again = st.load_case(saved)
 measure(again, "roundtrip")
 result["roundtrip_case"] = json.load(open(saved))
+result["insertion"] = {"loaded": guide.Shell.Insertion, "roundtrip": again.Shell.Insertion,
+                       "undercut": again.Shell.UndercutArea.Value}
+# A template asked for the least-undercut direction reports its undercut, and a case saved from it
+# says "auto".
+again.Shell.Insertion = "Auto"
+again.Document.recompute()
+auto_case = json.load(open(st.save_case(again, os.path.join(out, "auto.json"))))
+result["insertion"]["auto_case"] = auto_case["template"].get("insertion")
+result["insertion"]["auto_status"] = again.Shell.Status
+result["insertion"]["auto_undercut"] = again.Shell.UndercutArea.Value
 print("RESULT " + json.dumps(result))

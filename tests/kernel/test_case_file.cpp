@@ -39,6 +39,9 @@ void expect_same_case(const CaseFile& a, const CaseFile& b) {
   EXPECT_EQ(a.clearance, b.clearance);
   EXPECT_EQ(a.resolution, b.resolution);
   EXPECT_EQ(a.sampling_step, b.sampling_step);
+  EXPECT_EQ(a.insertion_auto, b.insertion_auto);
+  EXPECT_EQ(a.insertion.has_value(), b.insertion.has_value());
+  if (a.insertion && b.insertion) EXPECT_LT((*a.insertion - *b.insertion).norm(), 1e-15);
   ASSERT_EQ(a.tubes.size(), b.tubes.size());
   for (std::size_t i = 0; i < a.tubes.size(); ++i) {
     EXPECT_EQ(a.tubes[i].name, b.tubes[i].name);
@@ -107,4 +110,36 @@ TEST(CaseFile, PlanReplacesOrAddsTubesAndWarnsWhenTheInsidePointGoes) {
   CaseFile untouched = base;
   EXPECT_THROW(apply_plan(untouched, plan, std::nullopt), InvalidInput);
   expect_same_case(untouched, base);
+}
+
+TEST(CaseFile, InsertionIsADirectionOrAutoAndReadsBack) {
+  const CaseFile base = read_case(example_case("vertebra-pedicle"));
+  const fs::path dir = scratch("insertion");
+  CaseFile along = base;
+  along.insertion = Vec3(0, 0, -2).normalized();
+  write_case(along, (dir / "along.json").string());
+  const CaseFile read_along = read_case((dir / "along.json").string());
+  expect_same_case(along, read_along);
+  EXPECT_EQ(template_options(read_along).insertion, Vec3(0, 0, -1));
+  EXPECT_TRUE(template_options(read_along).analyse_insertion);
+  CaseFile automatic = base;
+  automatic.insertion_auto = true;
+  write_case(automatic, (dir / "auto.json").string());
+  const CaseFile read_auto = read_case((dir / "auto.json").string());
+  expect_same_case(automatic, read_auto);
+  EXPECT_FALSE(template_options(read_auto).insertion.has_value());
+  // Until undercuts are blocked out, a case that asks for an insertion direction is told so.
+  EXPECT_FALSE(read_auto.warnings.empty());
+
+  const std::string text = "{\"format\": \"surgical-template-case/1\", \"bone\": \"b.stl\", \"boundary\": "
+                           "{\"points\": [[0,0,0],[1,0,0],[0,1,0]]}, \"template\": {\"thickness\": 2, "
+                           "\"insertion\": ";
+  for (const char* bad : {"\"down\"", "[0, 0, 0]", "[1, 2]", "7"}) {
+    try {
+      parse_case(text + bad + "}}", "case.json");
+      FAIL() << "accepted template.insertion " << bad;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("template.insertion"), std::string::npos) << e.what();
+    }
+  }
 }

@@ -37,6 +37,25 @@ def test_design_template_on_sphere_is_valid(stk):
     assert stk.check_solid(sv, sf)["valid"]
 
 
+def test_insertion_analysis_of_a_cap_beyond_the_equator(stk):
+    # A cap of polar angle 110 degrees around +z: along -z the band beyond the equator (area
+    # 2 pi R^2 cos(70 deg)) is hidden; 'auto' finds a direction with no more than that.
+    V, F = icosphere(20.0, 5)
+    ring = circle(20.0, math.radians(110), 16)
+    band = 2 * math.pi * 400 * math.cos(math.radians(70))
+    down = stk.design_template(V, F, ring, thickness=2.0, inside=[0, 0, 20], insertion=[0, 0, -3], check=False)
+    ins = down["insertion"]
+    assert not ins["auto"] and np.allclose(ins["direction"], [0, 0, -1])
+    assert abs(ins["undercut_area_mm2"] - band) < 0.05 * band
+    assert ins["hidden"].shape == (len(down["inner"][1]),)
+    auto = stk.design_template(V, F, ring, thickness=2.0, inside=[0, 0, 20], insertion="auto", check=False)
+    assert auto["insertion"]["auto"]
+    assert auto["insertion"]["undercut_area_mm2"] <= ins["undercut_area_mm2"] + 0.01 * band  # sampling
+    with pytest.raises(ValueError, match="insertion"):
+        stk.design_template(V, F, ring, thickness=2.0, insertion="up")
+    assert "insertion" not in stk.design_template(V, F, ring, thickness=2.0, inside=[0, 0, 20], check=False)
+
+
 def test_offset_and_ruled_surface(stk):
     V, F = icosphere(10.0, 3)
     ov, of = stk.offset_surface(V, F, 1.0, 0.2, False)

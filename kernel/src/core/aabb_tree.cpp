@@ -116,6 +116,27 @@ std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_di
   return result;
 }
 
+bool AabbTree::any_along(const Vec3& origin, const Vec3& direction, double t_max, double pad,
+                         const std::function<bool(Index)>& visit) const {
+  if (nodes_.empty()) return false;
+  const Vec3 inv = direction.cwiseInverse();
+  Index stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[stack[--top]];
+    if (!ray_hits_box(n.box.inflated(pad), origin, inv, 0.0, t_max)) continue;
+    if (n.left == kInvalidIndex) {
+      for (Index i = n.begin; i < n.end; ++i)
+        if (visit(faces_[i])) return true;
+      continue;
+    }
+    stack[top++] = n.left;
+    stack[top++] = n.right;
+  }
+  return false;
+}
+
 std::optional<RayHit> AabbTree::first_hit(const Vec3& origin, const Vec3& direction, double t_min, double t_max) const {
   if (nodes_.empty()) return std::nullopt;
   const Vec3 inv = direction.cwiseInverse();

@@ -33,6 +33,8 @@ TemplateOptions template_options(const CaseFile& c) {
   o.resolution = c.resolution.value_or(0.0);
   o.sampling_step = c.sampling_step.value_or(0);
   o.tubes = c.tubes;
+  o.analyse_insertion = true;
+  o.insertion = c.insertion;
   return o;
 }
 
@@ -75,7 +77,7 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
 
   const json& tpl = r.required(doc, "template", "template");
   if (!tpl.is_object()) r.fail("template", "must be an object");
-  r.unknown_keys(tpl, {"thickness", "clearance", "resolution", "sampling_step"}, "template.", c.warnings);
+  r.unknown_keys(tpl, {"thickness", "clearance", "resolution", "sampling_step", "insertion"}, "template.", c.warnings);
   c.thickness = r.number(r.required(tpl, "thickness", "template.thickness"), "template.thickness");
   if (!(c.thickness > 0.0)) r.fail("template.thickness", "must be > 0, got " + detail::number(c.thickness));
   if (tpl.contains("clearance")) {
@@ -93,6 +95,21 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
     const double v = s.get<double>();
     if (v < 1 || v > 1e6) r.fail("template.sampling_step", "must be between 1 and 1000000");
     c.sampling_step = static_cast<int>(v);
+  }
+  if (tpl.contains("insertion")) {
+    const json& i = tpl["insertion"];
+    if (i.is_string()) {
+      if (i.get<std::string>() != "auto")
+        r.fail("template.insertion",
+               "must be \"auto\" or an [x, y, z] direction, got \"" + i.get<std::string>() + "\"");
+      c.insertion_auto = true;
+    } else {
+      const Vec3 d = r.point(i, "template.insertion");
+      if (!(d.norm() > 0.0)) r.fail("template.insertion", "must be a non-zero direction");
+      c.insertion = d.normalized();
+    }
+    c.warnings.push_back("template.insertion: undercuts along it are measured (insertion in the report) but not yet "
+                         "blocked out");
   }
 
   if (doc.contains("tubes")) {
@@ -155,6 +172,8 @@ std::string case_json(const CaseFile& c, const std::string& path) {
   doc["template"] = {{"thickness", c.thickness}, {"clearance", c.clearance}};
   if (c.resolution) doc["template"]["resolution"] = *c.resolution;
   if (c.sampling_step) doc["template"]["sampling_step"] = *c.sampling_step;
+  if (c.insertion) doc["template"]["insertion"] = point(*c.insertion);
+  else if (c.insertion_auto) doc["template"]["insertion"] = "auto";
   doc["tubes"] = json::array();
   for (const TubeSpec& t : c.tubes) {
     json tube = {{"name", t.name},

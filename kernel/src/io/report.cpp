@@ -64,7 +64,14 @@ nlohmann::json to_json(const TemplateResult& r, const TemplateOptions& options) 
                   {"connection_of_inner_and_outer_surfaces", t.connection},
                   {"initial_template_generation", t.total},
                   {"boolean_operation", t.boolean},
-                  {"validation", t.validation}};
+                  {"validation", t.validation},
+                  {"insertion_analysis", t.insertion}};
+  if (r.insertion.analysed)
+    out["insertion"] = {
+        {"direction", {r.insertion.direction.x(), r.insertion.direction.y(), r.insertion.direction.z()}},
+        {"auto", r.insertion.automatic},
+        {"region_area_mm2", r.insertion.region_area_mm2},
+        {"undercut_area_mm2", r.insertion.undercut_area_mm2}};
   out["tubes"] = placements(r.tubes);
   out["boolean"] = {{"perturbed_operations", r.perturbed_operations},
                     {"max_perturbation_mm", r.max_perturbation},

@@ -6,6 +6,7 @@ import FreeCAD as App
 import st_bridge
 from stmake.objects import make_bone, make_boundary, make_guide, make_template, make_tube
 from stmake.step import Step
+from stobjects.template import insertion_argument
 
 
 def export(obj, path):
@@ -26,7 +27,7 @@ def load_case(path, doc=None):
         bone = make_bone(case["bone"], doc)
         boundary = make_boundary(bone, case["boundary_points"], case["inside"])
         shell = make_template(boundary, case["thickness"], case["clearance"], case["resolution"] or 0.0,
-                              case["sampling_step"] or 0)
+                              case["sampling_step"] or 0, insertion=case.get("insertion"))
         tubes = [make_tube(t["entry"], t["direction"], t["inner_radius"], t["outer_radius"], t["length"],
                            t["offset"], name=t["name"], doc=doc, depth=t["depth"]) for t in case["tubes"]]
         guide = make_guide(shell, tubes)
@@ -52,6 +53,7 @@ def save_case(guide, path, output=None):
         "clearance": float(shell.Clearance.Value),
         "resolution": float(shell.Resolution.Value) if shell.Resolution.Value > 0 else None,
         "sampling_step": int(shell.SamplingStep) if shell.SamplingStep > 0 else None,
+        "insertion": insertion_argument(shell),
         "tubes": [t.Proxy.spec(t) for t in guide.Tubes],
         "output": os.path.join(os.path.dirname(os.path.abspath(path)), output) if output else None,
     }, path)

@@ -62,8 +62,10 @@ def make_boundary(bone, points, inside=None, name="Boundary"):
     return obj
 
 
-def make_template(boundary, thickness=2.5, clearance=0.0, resolution=0.0, sampling_step=0, name="Template"):
-    """The template shell of a boundary."""
+def make_template(boundary, thickness=2.5, clearance=0.0, resolution=0.0, sampling_step=0, name="Template",
+                  insertion="auto"):
+    """The template shell of a boundary. insertion: "auto" (the least-undercut direction, the default
+    for new templates), a direction, or None (no insertion analysis)."""
     doc = boundary.Document
     with Step(doc, "Create template"):
         obj = doc.addObject("Mesh::FeaturePython", name)
@@ -73,6 +75,15 @@ def make_template(boundary, thickness=2.5, clearance=0.0, resolution=0.0, sampli
         obj.Clearance = clearance
         obj.Resolution = resolution or 0.0
         obj.SamplingStep = int(sampling_step or 0)
+        if insertion is None:
+            obj.Insertion = "None"
+        elif isinstance(insertion, str):
+            if insertion != "auto":
+                raise ValueError(f'insertion: "auto", a direction or None, not "{insertion}"')
+            obj.Insertion = "Auto"
+        else:
+            obj.Insertion = "Direction"
+            obj.InsertionDirection = App.Vector(*[float(c) for c in insertion])
         _view(obj, "SurgicalTemplate_Template.svg")
     return obj
 

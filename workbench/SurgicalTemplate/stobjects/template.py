@@ -1,7 +1,24 @@
 """The template (Mesh::FeaturePython): the shell the kernel designs inside a boundary (Thickness,
-Clearance, Resolution); a kernel failure raises in execute() and the object keeps its last good mesh."""
+Clearance, Resolution); a kernel failure raises in execute() and the object keeps its last good mesh.
+Insertion (Auto, Direction, None) asks the kernel for the undercut of the covered bone along the
+least-undercut direction or InsertionDirection (measured, not yet blocked out); UndercutArea holds it."""
+import FreeCAD as App
+
 import st_bridge
 from stobjects.base import Feature
+
+INSERTION_MODES = ["Auto", "Direction", "None"]
+
+
+def insertion_argument(obj):
+    """The kernel's insertion argument for a template: "auto", a direction, or None (no analysis, as
+    for documents made before the property existed)."""
+    mode = getattr(obj, "Insertion", "None")
+    if mode == "Auto":
+        return "auto"
+    if mode == "Direction":
+        return st_bridge.vec(obj.InsertionDirection)
+    return None
 
 
 class Template(Feature):
@@ -17,6 +34,18 @@ class Template(Feature):
                  "Cell size of the distance field for the outer surface; 0 picks thickness / 8", 0.0)
         self.add(obj, "App::PropertyInteger", "SamplingStep", "Template",
                  "Border points between samples of the outer cut; 0 picks one", 0)
+        if "Insertion" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyEnumeration", "Insertion", "Insertion",
+                            "Auto: the direction with the least undercut; Direction: InsertionDirection; "
+                            "None: no analysis")
+            obj.Insertion = INSERTION_MODES
+            obj.Insertion = "None"
+        self.add(obj, "App::PropertyVector", "InsertionDirection", "Insertion",
+                 "The direction in which the guide moves onto the bone (with Insertion = Direction)",
+                 App.Vector(0, 0, -1))
+        self.add(obj, "App::PropertyArea", "UndercutArea", "Result",
+                 "Bone area under the template the guide cannot reach along its insertion direction "
+                 "(not yet blocked out)", 0.0, readonly=True)
         self.add(obj, "App::PropertyInteger", "InnerFaces", "Result",
                  "The first facets that form the inner surface (the seat on the bone)", 0, readonly=True)
         self.add(obj, "App::PropertyString", "Status", "Result", "What the kernel reported", "", readonly=True)
@@ -31,8 +60,15 @@ class Template(Feature):
                            float(obj.Thickness.Value), clearance=float(obj.Clearance.Value),
                            resolution=float(obj.Resolution.Value), sampling_step=int(obj.SamplingStep),
                            inside=st_bridge.vec(b.Inside) if b.UseInside else None,
-                           fit=False)  # the solid check, not the fit statistics (Validate inspects)
+                           fit=False,  # the solid check, not the fit statistics (Validate inspects)
+                           insertion=insertion_argument(obj))
         obj.Mesh = st_bridge.arrays_to_mesh(*r["shell"])
         obj.InnerFaces = int(r["inner_faces"])
         self.drop_thickness_map(obj)
         obj.Status = f"{r['solid']['summary']}; {r['times']['initial_template_generation']:.3f} s"
+        if "insertion" in r and "UndercutArea" in obj.PropertiesList:
+            ins = r["insertion"]
+            obj.UndercutArea = float(ins["undercut_area_mm2"])
+            d = ins["direction"]
+            obj.Status += (f"; undercut {ins['undercut_area_mm2']:.1f} mm^2 along ({d[0]:.3f}, {d[1]:.3f}, "
+                           f"{d[2]:.3f})")

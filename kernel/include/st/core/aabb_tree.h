@@ -41,6 +41,12 @@ public:
   [[nodiscard]] std::optional<RayHit> first_hit(const Vec3& origin, const Vec3& direction, double t_min = 0.0,
                                                 double t_max = std::numeric_limits<double>::infinity()) const;
 
+  /// Calls visit(face) for the triangles whose boxes, grown by `pad`, the segment origin + t *
+  /// direction, t in [0, t_max], may pass through (a filter for exact tests), until visit returns
+  /// true; returns whether it did.
+  bool any_along(const Vec3& origin, const Vec3& direction, double t_max, double pad,
+                 const std::function<bool(Index)>& visit) const;
+
   /// Calls visit(face) for every triangle whose box overlaps `box`.
   void for_each_in_box(const BoundingBox& box, const std::function<void(Index)>& visit) const;
 

@@ -32,6 +32,12 @@ struct TemplateOptions {
   bool simplify_outer = false;
   bool check = true;       ///< run check_solid on the result (a broken shell is refused)
   bool measure_fit = true; ///< with check: also measure the fit (TemplateResult::fit)
+  /// Insertion analysis (insertion.h): the undercut of the covered bone along `insertion` (the
+  /// direction the guide moves onto the bone), or along the least-undercut direction when it is not
+  /// given. Undercuts are measured, not yet blocked out. Off by default (the case file path, the
+  /// tool and the workbench turn it on).
+  bool analyse_insertion = false;
+  std::optional<Vec3> insertion;
   /// Drilling tubes merged into the shell (guide.h); empty for a template without sleeves.
   std::vector<TubeSpec> tubes;
   double tube_tolerance = 0.01; ///< chordal tolerance of sleeves and bores, mm
@@ -47,6 +53,17 @@ struct TemplateTimes {
   double total = 0.0;      ///< sum of the above: the paper's "initial template generation"
   double boolean = 0.0;    ///< tubes merged and bores cut: the paper's "Runtime of Boolean operation"
   double validation = 0.0; ///< not part of total
+  double insertion = 0.0;  ///< the insertion analysis; not part of total
+};
+
+/// Where the guide goes on (TemplateOptions::analyse_insertion).
+struct InsertionReport {
+  bool analysed = false;
+  Vec3 direction = Vec3::Zero();  ///< unit; the guide moves along it onto the bone
+  bool automatic = false;         ///< the least-undercut direction (no direction was given)
+  double region_area_mm2 = 0.0;   ///< the covered bone's area
+  double undercut_area_mm2 = 0.0; ///< of it, what the guide cannot reach along `direction`
+  std::vector<float> hidden;      ///< per inner-surface face, the fraction of its area hidden
 };
 
 struct TemplateFit {
@@ -77,6 +94,7 @@ struct TemplateResult {
   double resolution = 0.0; ///< the cell size used
   int sampling_step = 0;   ///< the sampling step used
   TemplateTimes times;
+  InsertionReport insertion;
   SolidReport solid; ///< filled when options.check
   TemplateFit fit;   ///< filled when options.check
 };

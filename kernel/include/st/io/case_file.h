@@ -23,6 +23,8 @@ struct CaseFile {
   double clearance = 0.0;
   std::optional<double> resolution;
   std::optional<int> sampling_step;
+  std::optional<Vec3> insertion; ///< template.insertion as a unit vector; none for "auto" or absent
+  bool insertion_auto = false;   ///< template.insertion is "auto"
   std::vector<TubeSpec> tubes;
   std::optional<std::string> output; ///< resolved against the case folder
   std::vector<std::string> warnings; ///< unknown keys and the like

@@ -1,0 +1,181 @@
+#include "st/design/insertion.h"
+
+#include "detail/parallel.h"
+#include "st/boolean/triangle_intersection.h"
+#include "st/core/errors.h"
+#include "st/core/predicates.h"
+#include "st/core/ray_triangle.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace st {
+
+namespace {
+
+/// Samples of a region's faces: centre, face, weight (area).
+struct Sample {
+  Vec3 point;
+  Index face;
+  double area;
+};
+
+/// Whether the guide, moving along d, cannot reach `p` on region face f (corners a, b, c), against
+/// the bone: f faces away from it (exactly: orient3d of a, b, c and a + d), or a bone face meets the
+/// segment from p back along -d (exact test, after a floating filter). The segment starts `lift`
+/// (a nanometre-scale length) off p, so that the bone face p lies on, to rounding, does not count.
+bool is_hidden(const AabbTree& bone, const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
+               double reach, double lift) {
+  // orient3d(a, b, c, a + d) < 0 when a + d lies on the side the normal points to, i.e. n . d > 0:
+  // the face looks away from the guide coming along d.
+  const int side = orient3d(a, b, c, a + d);
+  if (side < 0) return true;
+  if (side == 0) return false; // a wall parallel to d (see insertion.h)
+  const Vec3 back = -d;
+  const Vec3 p0 = p + lift * back, q = p + reach * back;
+  const TriangleMesh& mesh = bone.mesh();
+  return bone.any_along(p0, back, reach, lift, [&](Index g) {
+    const Triangle& t = mesh.triangles[g];
+    const Vec3 &ga = mesh.positions[t[0]], &gb = mesh.positions[t[1]], &gc = mesh.positions[t[2]];
+    const auto hit = ray_triangle(p0, back, ga, gb, gc, 1e-6);
+    if (!hit || hit->t < -lift || hit->t > reach + lift) return false;
+    return segment_intersects_triangle(p0, q, ga, gb, gc);
+  });
+}
+
+std::vector<Sample> samples_of(const TriangleMesh& region, double spacing, std::size_t stride) {
+  std::vector<Sample> out;
+  for (Index f = 0; f < region.face_count(); f += static_cast<Index>(stride)) {
+    const Triangle& t = region.triangles[f];
+    const Vec3 &a = region.positions[t[0]], &b = region.positions[t[1]], &c = region.positions[t[2]];
+    const double area = 0.5 * (b - a).cross(c - a).norm() * static_cast<double>(stride);
+    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const int k = spacing > 0.0 ? std::clamp(static_cast<int>(std::ceil(longest / spacing)), 1, 64) : 1;
+    const double w = area / (k * k);
+    const Vec3 u = (b - a) / k, v = (c - a) / k;
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; i + j < k; ++j) {
+        out.push_back({a + (i + 1.0 / 3.0) * u + (j + 1.0 / 3.0) * v, f, w});
+        if (i + j + 2 <= k) out.push_back({a + (i + 2.0 / 3.0) * u + (j + 2.0 / 3.0) * v, f, w});
+      }
+  }
+  return out;
+}
+
+/// Hidden area of the samples along d, and per sample whether it is hidden.
+double hidden_area(const AabbTree& bone, const TriangleMesh& region, const std::vector<Sample>& samples, const Vec3& d,
+                   std::vector<std::uint8_t>* flags) {
+  const BoundingBox box = bounding_box(bone.mesh());
+  const double reach = 2.0 * box.diagonal() + 1.0;
+  const double lift = 1e-9 * (box.diagonal() + 1.0);
+  constexpr std::size_t kGrain = 256;
+  std::vector<double> chunk_area((samples.size() + kGrain - 1) / kGrain, 0.0);
+  if (flags) flags->assign(samples.size(), 0);
+  detail::parallel_for(samples.size(), kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
+    double sum = 0.0;
+    for (std::size_t i = begin; i < end; ++i) {
+      const Sample& s = samples[i];
+      const Triangle& t = region.triangles[s.face];
+      if (!is_hidden(bone, s.point, region.positions[t[0]], region.positions[t[1]], region.positions[t[2]], d, reach,
+                     lift))
+        continue;
+      sum += s.area;
+      if (flags) (*flags)[i] = 1;
+    }
+    chunk_area[begin / kGrain] = sum;
+  });
+  double total = 0.0;
+  for (double a : chunk_area) total += a; // in chunk order: the same for any thread count
+  return total;
+}
+
+Vec3 checked_direction(const Vec3& d) {
+  const double n = d.norm();
+  if (!std::isfinite(n) || !(n > 0.0)) throw InvalidInput("insertion direction: must be a non-zero vector");
+  return d / n;
+}
+
+/// A unit vector perpendicular to the unit vector d.
+Vec3 perpendicular(const Vec3& d) {
+  const Vec3 other = std::abs(d.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  return d.cross(other).normalized();
+}
+
+/// d turned by `angle` (radians) towards the unit vector `towards` perpendicular to it.
+Vec3 tilted(const Vec3& d, const Vec3& towards, double angle) {
+  return (std::cos(angle) * d + std::sin(angle) * towards).normalized();
+}
+
+} // namespace
+
+Undercut undercut(const AabbTree& bone, const TriangleMesh& region, const Vec3& direction, double spacing) {
+  if (!(spacing > 0.0) || !std::isfinite(spacing)) throw InvalidInput("undercut: the sample spacing must be > 0 mm");
+  Undercut u;
+  u.direction = checked_direction(direction);
+  u.area_mm2 = surface_area(region);
+  const std::vector<Sample> samples = samples_of(region, spacing, 1);
+  std::vector<std::uint8_t> flags;
+  u.hidden_mm2 = hidden_area(bone, region, samples, u.direction, &flags);
+  std::vector<double> hidden(region.face_count(), 0.0), total(region.face_count(), 0.0);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    total[samples[i].face] += samples[i].area;
+    if (flags[i]) hidden[samples[i].face] += samples[i].area;
+  }
+  u.hidden.resize(region.face_count());
+  for (Index f = 0; f < region.face_count(); ++f)
+    u.hidden[f] = total[f] > 0.0 ? static_cast<float>(hidden[f] / total[f]) : 0.0f;
+  return u;
+}
+
+Vec3 least_undercut_direction(const AabbTree& bone, const TriangleMesh& region, const std::optional<Vec3>& start) {
+  Vec3 m;
+  if (start) {
+    m = checked_direction(*start);
+  } else {
+    Vec3 mean = Vec3::Zero();
+    for (Index f = 0; f < region.face_count(); ++f) mean += triangle_normal(region, f);
+    if (!(mean.norm() > 0.0)) throw GeometryError("insertion direction: the region has no mean normal");
+    m = -mean.normalized(); // the guide moves against the bone's outward normal
+  }
+  // Samples: face centres of about 4000 faces.
+  const std::size_t stride = std::max<std::size_t>(1, region.face_count() / 4000);
+  const std::vector<Sample> samples = samples_of(region, 0.0, stride);
+  struct Best {
+    Vec3 d;
+    double hidden;
+    double angle; // from m
+  } best{m, hidden_area(bone, region, samples, m, nullptr), 0.0};
+  auto consider = [&](const Vec3& d) {
+    const double angle = std::acos(std::clamp(d.dot(m), -1.0, 1.0));
+    if (angle > std::numbers::pi / 3.0 + 1e-12) return false;
+    const double h = hidden_area(bone, region, samples, d, nullptr);
+    if (h < best.hidden || (h == best.hidden && angle < best.angle)) {
+      best = {d, h, angle};
+      return true;
+    }
+    return false;
+  };
+  // Nothing hidden: no direction does better, and none is nearer the start.
+  if (best.hidden == 0.0) return m;
+  const Vec3 u = perpendicular(m), v = m.cross(u);
+  constexpr double kDegree = std::numbers::pi / 180.0;
+  for (int ring = 1; ring <= 8 && best.hidden > 0.0; ++ring) // a ring farther out cannot beat a zero
+    for (int k = 0; k < 12; ++k) {
+      const double around = k * 30.0 * kDegree;
+      consider(tilted(m, std::cos(around) * u + std::sin(around) * v, ring * 7.5 * kDegree));
+    }
+  for (double step = 3.75 * kDegree; step > 0.1 * kDegree; step *= 0.5)
+    for (int round = 0; round < 8; ++round) {
+      const Vec3 centre = best.d, a = perpendicular(centre), b = centre.cross(a);
+      bool moved = false;
+      for (int k = 0; k < 8; ++k) {
+        const double around = k * 45.0 * kDegree;
+        moved = consider(tilted(centre, std::cos(around) * a + std::sin(around) * b, step)) || moved;
+      }
+      if (!moved) break;
+    }
+  return best.d;
+}
+
+} // namespace st

@@ -1,0 +1,128 @@
+// Insertion direction and undercuts: hidden area against analytic values (a sphere's shadow on a
+// plane, a spherical cap beyond a hemisphere), and the automatic direction.
+
+#include "helpers.h"
+
+#include "st/core/aabb_tree.h"
+#include "st/core/errors.h"
+#include "st/design/insertion.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+
+namespace st {
+namespace {
+
+/// The faces of `mesh` for which keep(centre) holds, as a mesh (all positions kept).
+TriangleMesh faces_where(const TriangleMesh& mesh, const std::function<bool(const Vec3&)>& keep) {
+  TriangleMesh out;
+  out.positions = mesh.positions;
+  for (const Triangle& t : mesh.triangles)
+    if (keep((mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0)) out.triangles.push_back(t);
+  return out;
+}
+
+/// Two meshes as one (the second's vertex indices shifted).
+TriangleMesh joined(TriangleMesh a, const TriangleMesh& b) {
+  const Index n = a.vertex_count();
+  a.positions.insert(a.positions.end(), b.positions.begin(), b.positions.end());
+  for (const Triangle& t : b.triangles) a.triangles.push_back({t[0] + n, t[1] + n, t[2] + n});
+  return a;
+}
+
+TEST(Insertion, ABallHidesItsShadowOnThePlaneBelow) {
+  // A ball of radius 5 floating 10 mm above a plane region: along the plane's inward normal it hides a
+  // disk of its radius; along a direction 26.6 degrees off it, an ellipse of area pi r^2 / cos.
+  const TriangleMesh plane = test::make_height_field(0, 60, 0, 60, 120, [](double, double) { return 0.0; });
+  const TriangleMesh bone = joined(plane, test::make_icosphere(5.0, 5, Vec3(30, 30, 10)));
+  const TriangleMesh region =
+      faces_where(plane, [](const Vec3& c) { return std::abs(c.x() - 30) < 15 && std::abs(c.y() - 30) < 15; });
+  const AabbTree tree(bone);
+  const double disk = std::numbers::pi * 25.0;
+  const Undercut straight = undercut(tree, region, Vec3(0, 0, -1), 0.1);
+  EXPECT_NEAR(straight.area_mm2, 900.0, 1e-6);
+  EXPECT_NEAR(straight.hidden_mm2, disk, 0.02 * disk);
+  const Vec3 slanted = Vec3(1, 0, -2).normalized();
+  const Undercut tilted = undercut(tree, region, slanted, 0.1);
+  EXPECT_NEAR(tilted.hidden_mm2, disk / (2.0 / std::sqrt(5.0)), 0.02 * disk / (2.0 / std::sqrt(5.0)));
+  // Per face: the faces under the ball's centre are hidden, those at the region's corners are not.
+  ASSERT_EQ(straight.hidden.size(), region.face_count());
+  for (Index f = 0; f < region.face_count(); ++f) {
+    const Triangle& t = region.triangles[f];
+    const Vec3 c = (region.positions[t[0]] + region.positions[t[1]] + region.positions[t[2]]) / 3.0;
+    const double r = std::hypot(c.x() - 30, c.y() - 30);
+    if (r < 4.0) EXPECT_EQ(straight.hidden[f], 1.0f);
+    if (r > 6.0) EXPECT_EQ(straight.hidden[f], 0.0f);
+  }
+}
+
+TEST(Insertion, ACapBeyondAHemisphereIsHiddenBeyondItsEquator) {
+  // A cap of half-angle 120 degrees of a sphere of radius 20 around an oblique axis: along the axis
+  // the part beyond the equator, of area -2 pi R^2 cos(120 deg), cannot be reached; along any other
+  // direction more of it. The automatic direction finds the axis.
+  const double R = 20.0;
+  const TriangleMesh sphere = test::make_icosphere(R, 5);
+  const Vec3 axis = Vec3(1, 2, 3).normalized();
+  const TriangleMesh cap = faces_where(sphere, [&](const Vec3& c) { return c.normalized().dot(axis) > -0.5; });
+  const AabbTree tree(sphere);
+  double back_facing = 0.0; // on a convex polyhedron, exactly the faces that look away
+  for (Index f = 0; f < cap.face_count(); ++f)
+    if (triangle_normal(cap, f).dot(axis) < 0.0) back_facing += 0.5 * triangle_normal(cap, f).norm();
+  const Undercut along = undercut(tree, cap, -axis, 0.5);
+  EXPECT_NEAR(along.hidden_mm2, back_facing, 1e-9 * back_facing);
+  const double analytic = -2.0 * std::numbers::pi * R * R * std::cos(2.0 * std::numbers::pi / 3.0);
+  EXPECT_NEAR(along.hidden_mm2, analytic, 0.02 * analytic);
+  // Within 30 degrees of the axis the same part is hidden (the cap holds every hemisphere there).
+  const Vec3 off = (-axis + 0.3 * axis.cross(Vec3::UnitX()).normalized()).normalized();
+  EXPECT_NEAR(undercut(tree, cap, off, 0.5).hidden_mm2, analytic, 0.02 * analytic);
+}
+
+TEST(Insertion, TheAutomaticDirectionFindsTheAxisOfAHemisphere) {
+  // A hemisphere of radius 20: along its axis nothing is hidden; tilted by phi, a half lune of area
+  // phi R^2 is. The search, started 40 degrees off the axis, finds it within 2 degrees.
+  const TriangleMesh sphere = test::make_icosphere(20.0, 5);
+  const Vec3 axis = Vec3(1, 2, 3).normalized();
+  const TriangleMesh cap = faces_where(sphere, [&](const Vec3& c) { return c.normalized().dot(axis) > 0.0; });
+  const AabbTree tree(sphere);
+  const Vec3 start =
+      (-axis + std::tan(40.0 * std::numbers::pi / 180.0) * axis.cross(Vec3::UnitX()).normalized()).normalized();
+  const Vec3 found = least_undercut_direction(tree, cap, start);
+  EXPECT_LT(std::acos(std::clamp(found.dot(-axis), -1.0, 1.0)) * 180.0 / std::numbers::pi, 2.0);
+  // From the mean normal (the default start) too.
+  const Vec3 from_mean = least_undercut_direction(tree, cap);
+  EXPECT_LT(std::acos(std::clamp(from_mean.dot(-axis), -1.0, 1.0)) * 180.0 / std::numbers::pi, 2.0);
+}
+
+TEST(Insertion, TheAutomaticDirectionOfAnUnevenCapHidesNoMoreThanItsAxis) {
+  // The same cap, but its region's mean normal tilted away from the axis by cutting one side
+  // shorter: the least undercut is still along the axis, which the search must find off its start.
+  const TriangleMesh sphere = test::make_icosphere(20.0, 5);
+  const Vec3 axis = Vec3(-2, 1, 1).normalized();
+  const Vec3 side = axis.cross(Vec3::UnitZ()).normalized();
+  const TriangleMesh cap = faces_where(sphere, [&](const Vec3& c) {
+    const Vec3 n = c.normalized();
+    return n.dot(axis) > -0.3 && n.dot(side) < 0.6;
+  });
+  const AabbTree tree(sphere);
+  const Vec3 found = least_undercut_direction(tree, cap);
+  const Undercut best = undercut(tree, cap, found, 0.5);
+  // Nothing of the region beyond the hemisphere around `found` ...
+  for (Index f = 0; f < cap.face_count(); ++f)
+    if (best.hidden[f] > 0.0f) EXPECT_GE(triangle_normal(cap, f).dot(found), 0.0);
+  // ... and no direction of a small ring around it does better.
+  EXPECT_LE(best.hidden_mm2, undercut(tree, cap, -axis, 0.5).hidden_mm2 + 1e-9);
+}
+
+TEST(Insertion, RefusesAZeroDirectionAndSpacing) {
+  const TriangleMesh sphere = test::make_icosphere(10.0, 2);
+  const AabbTree tree(sphere);
+  EXPECT_THROW(undercut(tree, sphere, Vec3::Zero(), 0.5), InvalidInput);
+  EXPECT_THROW(undercut(tree, sphere, Vec3(0, 0, std::nan("")), 0.5), InvalidInput);
+  EXPECT_THROW(undercut(tree, sphere, Vec3(0, 0, 1), 0.0), InvalidInput);
+}
+
+} // namespace
+} // namespace st
