@@ -237,6 +237,48 @@ TEST_F(Bump, TubeThatMissesTheTemplateIsNamed) {
   }
 }
 
+TEST(GuideSeat, ASleeveOverARidgeStandsOnItAndABoreThroughItIsRefused) {
+  // A ridge 6 mm high, 2.5-4.5 mm beside the entry. A sleeve whose foot reaches over the ridge's
+  // flank (bone up to 2.4 mm high under the column's edge) is built and clear of the bone; a sleeve
+  // whose axis passes through the ridge is refused, naming the tube.
+  const TriangleMesh bone = test::make_height_field(
+      -10, 10, -10, 10, 100, [](double x, double) { return 6.0 * std::max(0.0, 1.0 - std::abs(x - 3.5) / 1.0); });
+  TemplateOptions o;
+  o.boundary_points = {{-8, -5, 0}, {1.5, -5, 0}, {1.5, 5, 0}, {-8, 5, 0}};
+  o.inside = Vec3(-3, 0, 0);
+  o.thickness = 2.0;
+  TubeSpec t;
+  t.name = "beside the ridge";
+  t.entry = Vec3(0.4, 0, 0);
+  t.direction = -Vec3::UnitZ();
+  t.inner_radius = 1.0;
+  t.outer_radius = 2.5;
+  t.offset = 3.0;
+  t.length = 10.0;
+  o.tubes = {t};
+  const TemplateResult r = design_template(bone, o);
+  EXPECT_TRUE(r.solid.valid()) << r.solid.summary();
+  const AabbTree bone_tree(bone);
+  r.columns.triangles.empty() ? void() : [&] {
+    const AabbTree columns(r.columns);
+    columns.for_each_overlapping_pair(bone_tree, [&](Index fc, Index fb) {
+      const Triangle &c = r.columns.triangles[fc], &b = bone.triangles[fb];
+      EXPECT_FALSE(triangles_intersect(r.columns.positions[c[0]], r.columns.positions[c[1]], r.columns.positions[c[2]],
+                                       bone.positions[b[0]], bone.positions[b[1]], bone.positions[b[2]]));
+    });
+  }();
+  t.name = "through the ridge";
+  t.direction = -Vec3(0.6, 0, 0.8);
+  o.tubes = {t};
+  try {
+    design_template(bone, o);
+    FAIL() << "a bore through the ridge was built";
+  } catch (const GeometryError& e) {
+    EXPECT_NE(std::string(e.what()).find("through the ridge"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("bone"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(Bump, BadTubeNumbersAreRefusedByName) {
   auto refused = [&](TubeSpec t, const std::string& key) {
     TemplateOptions o = options();

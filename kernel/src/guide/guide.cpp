@@ -3,12 +3,15 @@
 #include "st/core/aabb_tree.h"
 #include "st/boolean/boolean.h"
 #include "st/core/errors.h"
+#include "st/core/ray_triangle.h"
 #include "st/guide/sleeve.h"
 #include "st/boolean/triangle_intersection.h"
 
 #include "detail/format.h"
 
 #include <algorithm>
+#include <array>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -102,7 +105,7 @@ TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const Guide
                         detail::where(tube.entry));
   }
   // The column reaches down into the middle of the template wall (at the lowest sample, so it stands
-  // in the template all around); its foot then follows the bone (footed_cylinder_mesh). Not lower,
+  // in the template all around); its foot then rises over the bone under it (seat_foot). Not lower,
   // even where the sleeve is planned lower: below that the template body is the material, and
   // beyond the inner surface lie clearance and bone.
   const double column = *middle;
@@ -123,48 +126,126 @@ TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const Guide
   return p;
 }
 
-// The foot follows the bone at its grid points; between them a bone ridge can still reach it. Foot
-// points of faces that meet the bone (exact test) are raised in small steps until none does. A face
-// with no foot point that meets the bone means the sleeve itself runs into the bone away from its
-// seat (a planning conflict): an error naming the tube and the place.
-void seat_column(TriangleMesh& column, const TubeSpec& tube, double chordal_tolerance, const AabbTree& bone) {
-  if (bone.empty()) return;
-  const Index ring = static_cast<Index>(circle_segments(tube.outer_radius, chordal_tolerance));
-  const Index foot_vertices = column.vertex_count() - ring - 1; // then the top ring and its centre
-  const Vec3 axis = tube_axis(tube);
-  const double step = 0.05, top_height = axis.dot(column.positions.back());
-  auto conflict = [&](const Vec3& where, const std::string& how) {
-    return GeometryError("tube '" + tube.name + "': its sleeve " + how + " near " + detail::where(where) +
-                         "; shorten it, raise its offset or change its direction");
-  };
-  for (int round = 0; round < 12; ++round) {
-    std::vector<std::uint8_t> raise(column.vertex_count(), 0);
-    bool meets = false;
-    std::optional<Vec3> above_foot;
-    const AabbTree tree(column);
-    tree.for_each_overlapping_pair(bone, [&](Index fc, Index fb) {
-      const Triangle& c = column.triangles[fc];
-      const Triangle& b = bone.mesh().triangles[fb];
-      const auto& q = bone.mesh().positions;
-      if (!triangles_intersect(column.positions[c[0]], column.positions[c[1]], column.positions[c[2]], q[b[0]], q[b[1]],
-                               q[b[2]]))
-        return;
-      meets = true;
-      bool has_foot = false;
-      for (Index v : c)
-        if (v < foot_vertices) raise[v] = has_foot = true;
-      if (!has_foot) above_foot = column.positions[c[0]];
-    });
-    if (!meets) return;
-    if (above_foot) throw conflict(*above_foot, "runs into the bone");
-    for (Index v = 0; v < foot_vertices; ++v) {
-      if (!raise[v]) continue;
-      Vec3& p = column.positions[v];
-      p = (p + step * axis).cast<float>().cast<double>();
-      if (axis.dot(p) > top_height - 0.01 * tube.length) throw conflict(p, "stands on bone as high as its top");
-    }
+GeometryError conflict(const TubeSpec& tube, const Vec3& where, const std::string& how) {
+  return GeometryError("tube '" + tube.name + "': its " + how + " near " + detail::where(where) +
+                       "; shorten it, raise its offset or change its direction");
+}
+
+// Keeps the side of `polygon` where n . x >= offset (Sutherland-Hodgman, one plane).
+std::vector<Vec3> clipped(const std::vector<Vec3>& polygon, const Vec3& n, double offset) {
+  std::vector<Vec3> out;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Vec3 &p = polygon[i], &q = polygon[(i + 1) % polygon.size()];
+    const double sp = n.dot(p) - offset, sq = n.dot(q) - offset;
+    if (sp >= 0.0) out.push_back(p);
+    if ((sp >= 0.0) != (sq >= 0.0)) out.push_back(p + (sp / (sp - sq)) * (q - p));
   }
-  throw conflict(tube.entry, "cannot be seated clear of the bone under it");
+  return out;
+}
+
+// The highest bone (a height along the tube's axis, from the entry) over the foot triangle `foot`
+// (in the prism over it along the axis), up to `ceiling`; nothing when no bone lies there. Each bone
+// triangle near is clipped by the prism's three side planes and by the ceiling: the highest point
+// of what is left is one of its corners, so the height is that of the bone itself, not of samples.
+std::optional<double> highest_bone(const AabbTree& bone, const TubeSpec& tube, const std::array<Vec3, 3>& foot,
+                                   double floor, double ceiling) {
+  const Vec3 axis = tube_axis(tube);
+  auto height = [&](const Vec3& x) { return axis.dot(x - tube.entry); };
+  BoundingBox box;
+  for (const Vec3& f : foot) {
+    box.extend(f);
+    box.extend(f + (ceiling - floor) * axis);
+  }
+  std::array<Vec3, 3> normals;
+  std::array<double, 3> offsets{};
+  for (int k = 0; k < 3; ++k) {
+    Vec3 n = axis.cross(foot[(k + 1) % 3] - foot[k]);
+    if (n.dot(foot[(k + 2) % 3] - foot[k]) < 0.0) n = -n;
+    normals[k] = n;
+    offsets[k] = n.dot(foot[k]);
+  }
+  std::optional<double> highest;
+  const TriangleMesh& mesh = bone.mesh();
+  bone.for_each_in_box(box.inflated(1e-6), [&](Index g) {
+    const Triangle& t = mesh.triangles[g];
+    std::vector<Vec3> polygon{mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]};
+    for (int k = 0; k < 3 && !polygon.empty(); ++k) polygon = clipped(polygon, normals[k], offsets[k]);
+    if (!polygon.empty()) polygon = clipped(polygon, -axis, -(ceiling + axis.dot(tube.entry)));
+    for (const Vec3& x : polygon) highest = std::max(highest.value_or(height(x)), height(x));
+  });
+  return highest;
+}
+
+// Seats a column whose foot (its first `foot_vertices` vertices) lies flat at height `floor`: every
+// foot vertex rises to `above` over the highest bone over the foot triangles around it (so each foot
+// triangle, whose corners all stand that high over the bone under it, stays clear of it), never by
+// steps. Bone that reaches the sleeve's top under it is a planning conflict: an error naming the
+// tube and the place.
+void seat_foot(TriangleMesh& column, Index foot_vertices, const TubeSpec& tube, double floor, double ceiling,
+               double above, const AabbTree& bone) {
+  if (bone.empty()) return;
+  const Vec3 axis = tube_axis(tube);
+  std::vector<double> need(foot_vertices, -std::numeric_limits<double>::infinity());
+  for (const Triangle& t : column.triangles) {
+    if (t[0] >= foot_vertices || t[1] >= foot_vertices || t[2] >= foot_vertices) continue;
+    const auto h = highest_bone(bone, tube, {column.positions[t[0]], column.positions[t[1]], column.positions[t[2]]},
+                                floor, ceiling);
+    if (!h) continue;
+    for (Index v : t) need[v] = std::max(need[v], *h + above);
+  }
+  for (Index v = 0; v < foot_vertices; ++v) {
+    if (!(need[v] > floor)) continue;
+    if (need[v] > ceiling - 0.01 * tube.length)
+      throw conflict(tube, column.positions[v] + (need[v] - floor) * axis, "sleeve stands on bone as high as its top");
+    column.positions[v] += (need[v] - floor) * axis;
+  }
+}
+
+// What seat_foot makes sure of, checked exactly on the column as it will be written (float): no
+// face of it meets the bone. One that does (rounding, or bone through the sleeve's side) is a
+// conflict named by the tube and the place.
+void check_clear_of_bone(const TriangleMesh& column, const TubeSpec& tube, const AabbTree& bone) {
+  if (bone.empty()) return;
+  std::optional<Vec3> meets;
+  const AabbTree tree(column);
+  tree.for_each_overlapping_pair(bone, [&](Index fc, Index fb) {
+    if (meets) return;
+    const Triangle& c = column.triangles[fc];
+    const Triangle& b = bone.mesh().triangles[fb];
+    const auto& q = bone.mesh().positions;
+    if (triangles_intersect(column.positions[c[0]], column.positions[c[1]], column.positions[c[2]], q[b[0]], q[b[1]],
+                            q[b[2]]))
+      meets = column.positions[c[0]];
+  });
+  if (meets) throw conflict(tube, *meets, "sleeve runs into the bone");
+}
+
+// The drill's way down the axis, from the sleeve's top to the entry, meets the bone's surface once:
+// where it enters the bone (at the entry, or a little above an entry planned inside the bone). Two
+// crossings or more (exact tests; crossings closer than 0.05 mm along the axis count as one, for
+// duplicated sheets of a dirty mesh) mean bone in the bore above the template, a cusp or a lamina
+// beside the entry: a conflict.
+void check_bore_line(const TubeSpec& tube, double top, const AabbTree& bone) {
+  if (!(top > 0.0)) return;
+  const Vec3 axis = tube_axis(tube);
+  const Vec3 from = tube_point(tube, top), to = tube.entry;
+  const TriangleMesh& mesh = bone.mesh();
+  std::vector<std::pair<double, Vec3>> crossings; // distance from the top, where
+  bone.any_along(from, -axis, top, 1e-6, [&](Index g) {
+    const Triangle& t = mesh.triangles[g];
+    const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    if (!segment_intersects_triangle(from, to, a, b, c)) return false;
+    const auto hit = ray_triangle(from, -axis, a, b, c, 1e-6);
+    crossings.emplace_back(hit ? hit->t : axis.dot(from - (a + b + c) / 3.0), a);
+    return false;
+  });
+  std::sort(crossings.begin(), crossings.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  int distinct = 0;
+  for (std::size_t i = 0; i < crossings.size(); ++i)
+    if (i == 0 || crossings[i].first > crossings[i - 1].first + 0.05) ++distinct;
+  if (distinct >= 2)
+    throw conflict(tube, crossings.front().second,
+                   "bore runs into the bone above the entry (between the sleeve's top and the entry)");
 }
 
 } // namespace
@@ -230,18 +311,14 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
     const TubePlacement& p = result.tubes[i];
     if (p.sleeve_inside_template) continue;
     // The foot: at least foot_lift above the bone (plus clearance) everywhere under the sleeve.
-    const Vec3 axis = tube_axis(tubes[i]);
-    const double start = p.sleeve_top + options.bore_margin;
-    auto foot = [&](const Vec3& base_point) {
-      const Vec3 origin = base_point + (start - p.column_bottom) * axis;
-      const auto hit = bone_tree.first_hit(origin, -axis, 0.0, start - p.column_bottom + 1.0);
-      if (!hit) return 0.0;
-      return std::max(0.0, (start - hit->t) + options.clearance + p.foot_lift - p.column_bottom);
-    };
-    TriangleMesh column =
-        rounded(footed_cylinder_mesh(tube_cylinder(tubes[i], tubes[i].outer_radius, p.column_bottom, p.sleeve_top),
-                                     options.chordal_tolerance, foot));
-    seat_column(column, tubes[i], options.chordal_tolerance, bone_tree);
+    const Cylinder cylinder = tube_cylinder(tubes[i], tubes[i].outer_radius, p.column_bottom, p.sleeve_top);
+    TriangleMesh column = footed_cylinder_mesh(cylinder, options.chordal_tolerance, [](const Vec3&) { return 0.0; });
+    const Index ring = static_cast<Index>(circle_segments(tubes[i].outer_radius, options.chordal_tolerance));
+    seat_foot(column, column.vertex_count() - ring - 1, tubes[i], p.column_bottom, p.sleeve_top,
+              options.clearance + p.foot_lift, bone_tree);
+    column = rounded(std::move(column));
+    check_clear_of_bone(column, tubes[i], bone_tree);
+    check_bore_line(tubes[i], p.sleeve_top, bone_tree);
     unite(columns, column);
   }
   result.columns_seconds = seconds_since(t0) - result.placement_seconds;

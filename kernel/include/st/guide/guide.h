@@ -6,8 +6,13 @@
 // outer cylinder is extended down to the middle of the template wall (a column, so a sleeve planned
 // above the template still joins it), the columns are united with each other and with the shell,
 // and pieces that would pass the shell's inner surface into the bone are dropped (the seat: the
-// inner surface inside a column is kept instead). Then the bores (inner radius, circumscribed so the
-// drill always fits) are cut along each whole axis, from above the sleeve through to the bone.
+// inner surface inside a column is kept instead). A column's foot stands over the bone under it:
+// each foot vertex at least clearance + foot lift over the highest bone over the foot triangles
+// around it, that height taken exactly from the bone triangles clipped to the prism over each foot
+// triangle (so any plan whose sleeve clears the bone up to its top is built; bone as high as the
+// sleeve's top under it is a conflict named by the tube). Then the bores (inner radius,
+// circumscribed so the drill always fits) are cut along each whole axis, from above the sleeve
+// through to the bone.
 
 #include "st/guide/tube.h"
 #include "st/core/mesh.h"
