@@ -279,6 +279,32 @@ TEST(GuideSeat, ASleeveOverARidgeStandsOnItAndABoreThroughItIsRefused) {
   }
 }
 
+TEST(GuideSeat, ASleeveStandingOnBoneBesideTheTemplateIsRefusedByName) {
+  // Near the rim of the vertebra template, tilted over the lamina's edge: the foot rises over the
+  // bone beside the template and the sleeve would float clear of it (was: a guide of two parts).
+  const CaseFile c = read_case(test::examples_dir() + "/cases/vertebra-pedicle.json");
+  const TriangleMesh bone = read_mesh(c.bone);
+  TemplateOptions o = template_options(c);
+  o.analyse_insertion = false;
+  o.simplify_outer = true;
+  TubeSpec t;
+  t.name = "over the edge";
+  t.entry = Vec3(-38.92887010274268, -0.5916847006867371, 9.858299386787964);
+  t.direction = Vec3(-0.06028030874335921, 0.401625614554084, -0.9138178976753846).normalized();
+  t.inner_radius = 1.6;
+  t.outer_radius = 2.5;
+  t.length = 10.0;
+  t.offset = 1.0;
+  o.tubes = {t};
+  try {
+    const TemplateResult r = design_template(bone, o);
+    EXPECT_EQ(check_solid(r.shell).components, 1u) << "built, but not as one part";
+  } catch (const GeometryError& e) {
+    EXPECT_NE(std::string(e.what()).find("over the edge"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("beside the template"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(Bump, BadTubeNumbersAreRefusedByName) {
   auto refused = [&](TubeSpec t, const std::string& key) {
     TemplateOptions o = options();

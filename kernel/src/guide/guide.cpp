@@ -4,6 +4,7 @@
 #include "st/boolean/boolean.h"
 #include "st/core/errors.h"
 #include "st/core/ray_triangle.h"
+#include "st/core/union_find.h"
 #include "st/guide/sleeve.h"
 #include "st/boolean/triangle_intersection.h"
 
@@ -248,6 +249,37 @@ void check_bore_line(const TubeSpec& tube, double top, const AabbTree& bone) {
                    "bore runs into the bone above the entry (between the sleeve's top and the entry)");
 }
 
+// After the union, every column must be joined to the template: a part made of sleeve faces only
+// (a column whose foot rose over bone beside the template, clear of it) is a conflict named by the
+// tube nearest it.
+void check_joined(const TriangleMesh& mesh, const std::vector<std::uint8_t>& from_tube,
+                  const std::vector<TubeSpec>& tubes) {
+  UnionFind sets(mesh.vertex_count());
+  for (const Triangle& t : mesh.triangles) {
+    sets.join(t[0], t[1]);
+    sets.join(t[1], t[2]);
+  }
+  std::vector<std::uint8_t> joined(mesh.vertex_count(), 0);
+  for (Index f = 0; f < mesh.face_count(); ++f)
+    if (!from_tube[f]) joined[sets.find(mesh.triangles[f][0])] = 1;
+  for (Index f = 0; f < mesh.face_count(); ++f) {
+    const Vec3& p = mesh.positions[mesh.triangles[f][0]];
+    if (joined[sets.find(mesh.triangles[f][0])]) continue;
+    std::size_t nearest = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < tubes.size(); ++i) {
+      const Vec3 axis = tube_axis(tubes[i]), q = p - tubes[i].entry;
+      const double d = (q - q.dot(axis) * axis).norm();
+      if (d < best) {
+        best = d;
+        nearest = i;
+      }
+    }
+    throw conflict(tubes[nearest], p,
+                   "sleeve stands on bone beside the template, clear of it (it would not be joined)");
+  }
+}
+
 } // namespace
 
 GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
@@ -330,6 +362,7 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
     note(merged);
     result.mesh = std::move(merged.mesh);
     result.from_tube = std::move(merged.from_b);
+    check_joined(result.mesh, result.from_tube, tubes);
   }
   result.union_seconds = seconds_since(t0);
   result.columns = std::move(columns);
