@@ -116,15 +116,8 @@ void bind_template(py::module_& m) {
         o.simplify_outer = simplify_outer;
         o.tubes = to_tubes(tubes);
         o.tube_tolerance = tube_tolerance;
-        if (!insertion.is_none()) {
-          o.analyse_insertion = true;
-          if (py::isinstance<py::str>(insertion)) {
-            if (insertion.cast<std::string>() != "auto")
-              throw InvalidInput("insertion: must be \"auto\", an [x, y, z] direction or None");
-          } else {
-            o.insertion = to_optional_point(insertion, "insertion");
-          }
-        }
+        o.analyse_insertion = !insertion.is_none();
+        o.insertion = to_insertion(insertion).second;
         TemplateResult r;
         {
           py::gil_scoped_release release;

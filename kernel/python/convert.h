@@ -12,6 +12,7 @@
 #include <pybind11/pybind11.h>
 
 #include <optional>
+#include <tuple>
 #include <string>
 #include <vector>
 
@@ -140,6 +141,18 @@ inline py::dict tube_dict(const TubeSpec& t) {
   return td;
 }
 
+/// The insertion argument of the module: "auto" (true, no direction), an [x, y, z] direction, or
+/// None (false, no direction). InvalidInput for anything else.
+inline std::pair<bool, std::optional<Vec3>> to_insertion(const py::object& o) {
+  if (o.is_none()) return {false, std::nullopt};
+  if (py::isinstance<py::str>(o)) {
+    if (o.cast<std::string>() != "auto")
+      throw InvalidInput("insertion: must be \"auto\", an [x, y, z] direction or None");
+    return {true, std::nullopt};
+  }
+  return {false, to_optional_point(o, "insertion")};
+}
+
 /// A case (CaseFile) as read_case returns it: {path, name, bone, boundary_points, inside, thickness,
 /// clearance, resolution, sampling_step, insertion ("auto", an (3,) array or None), tubes, output,
 /// warnings}; missing optionals are None.
@@ -182,15 +195,7 @@ inline CaseFile to_case(const py::dict& d) {
   if (has("clearance")) c.clearance = d["clearance"].cast<double>();
   if (has("resolution")) c.resolution = d["resolution"].cast<double>();
   if (has("sampling_step")) c.sampling_step = d["sampling_step"].cast<int>();
-  if (has("insertion")) {
-    if (py::isinstance<py::str>(d["insertion"])) {
-      if (d["insertion"].cast<std::string>() != "auto")
-        throw InvalidInput("insertion: must be \"auto\", an [x, y, z] direction or None");
-      c.insertion_auto = true;
-    } else {
-      c.insertion = to_optional_point(py::object(d["insertion"]), "insertion");
-    }
-  }
+  if (has("insertion")) std::tie(c.insertion_auto, c.insertion) = to_insertion(d["insertion"]);
   if (has("tubes")) c.tubes = to_tubes(d["tubes"]);
   if (has("output")) c.output = py::str(d["output"]).cast<std::string>();
   return c;

@@ -116,8 +116,8 @@ std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_di
   return result;
 }
 
-bool AabbTree::any_along(const Vec3& origin, const Vec3& direction, double t_max, double pad,
-                         const std::function<bool(Index)>& visit) const {
+template <class Leaf> bool AabbTree::along(const Vec3& origin, const Vec3& direction, double t_min, const double& t_max,
+                                           double pad, Leaf&& leaf) const {
   if (nodes_.empty()) return false;
   const Vec3 inv = direction.cwiseInverse();
   Index stack[128];
@@ -125,10 +125,10 @@ bool AabbTree::any_along(const Vec3& origin, const Vec3& direction, double t_max
   stack[top++] = 0;
   while (top > 0) {
     const Node& n = nodes_[stack[--top]];
-    if (!ray_hits_box(n.box.inflated(pad), origin, inv, 0.0, t_max)) continue;
+    if (!ray_hits_box(pad > 0.0 ? n.box.inflated(pad) : n.box, origin, inv, t_min, t_max)) continue;
     if (n.left == kInvalidIndex) {
       for (Index i = n.begin; i < n.end; ++i)
-        if (visit(faces_[i])) return true;
+        if (leaf(faces_[i])) return true;
       continue;
     }
     stack[top++] = n.left;
@@ -137,34 +137,25 @@ bool AabbTree::any_along(const Vec3& origin, const Vec3& direction, double t_max
   return false;
 }
 
+bool AabbTree::any_along(const Vec3& origin, const Vec3& direction, double t_max, double pad,
+                         const std::function<bool(Index)>& visit) const {
+  return along(origin, direction, 0.0, t_max, pad, visit);
+}
+
 std::optional<RayHit> AabbTree::first_hit(const Vec3& origin, const Vec3& direction, double t_min, double t_max) const {
-  if (nodes_.empty()) return std::nullopt;
-  const Vec3 inv = direction.cwiseInverse();
   RayHit hit;
   bool found = false;
-  Index stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& n = nodes_[stack[--top]];
-    if (!ray_hits_box(n.box, origin, inv, t_min, t_max)) continue;
-    if (n.left == kInvalidIndex) {
-      for (Index i = n.begin; i < n.end; ++i) {
-        const Triangle& t = mesh_.triangles[faces_[i]];
-        const auto s =
-            ray_triangle(origin, direction, mesh_.positions[t[0]], mesh_.positions[t[1]], mesh_.positions[t[2]]);
-        if (s && s->t >= t_min && s->t <= t_max) {
-          t_max = s->t;
-          hit.face = faces_[i];
-          hit.t = s->t;
-          found = true;
-        }
-      }
-      continue;
+  along(origin, direction, t_min, t_max, 0.0, [&](Index f) {
+    const Triangle& t = mesh_.triangles[f];
+    const auto s = ray_triangle(origin, direction, mesh_.positions[t[0]], mesh_.positions[t[1]], mesh_.positions[t[2]]);
+    if (s && s->t >= t_min && s->t <= t_max) {
+      t_max = s->t; // nearer nodes only from now on
+      hit.face = f;
+      hit.t = s->t;
+      found = true;
     }
-    stack[top++] = n.left;
-    stack[top++] = n.right;
-  }
+    return false;
+  });
   if (!found) return std::nullopt;
   hit.point = origin + hit.t * direction;
   return hit;

@@ -14,6 +14,19 @@ namespace st {
 
 namespace {
 
+/// The bone as the segments see it: how far they reach (past the bone's bounding box) and how far off
+/// the surface they start; measured once per bone, not per direction.
+struct Sight {
+  const AabbTree& bone;
+  double reach;
+  double lift;
+};
+
+Sight sight_of(const AabbTree& bone) {
+  const double size = bounding_box(bone.mesh()).diagonal() + 1.0;
+  return {bone, 2.0 * size, 1e-9 * size};
+}
+
 /// Samples of a region's faces: centre, face, weight (area).
 struct Sample {
   Vec3 point;
@@ -25,8 +38,8 @@ struct Sample {
 /// the bone: f faces away from it (exactly: orient3d of a, b, c and a + d), or a bone face meets the
 /// segment from p back along -d (exact test, after a floating filter). The segment starts `lift`
 /// (a nanometre-scale length) off p, so that the bone face p lies on, to rounding, does not count.
-bool is_hidden(const AabbTree& bone, const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
-               double reach, double lift) {
+bool is_hidden(const Sight& sight, const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  const double reach = sight.reach, lift = sight.lift;
   // orient3d(a, b, c, a + d) < 0 when a + d lies on the side the normal points to, i.e. n . d > 0:
   // the face looks away from the guide coming along d.
   const int side = orient3d(a, b, c, a + d);
@@ -34,8 +47,8 @@ bool is_hidden(const AabbTree& bone, const Vec3& p, const Vec3& a, const Vec3& b
   if (side == 0) return false; // a wall parallel to d (see insertion.h)
   const Vec3 back = -d;
   const Vec3 p0 = p + lift * back, q = p + reach * back;
-  const TriangleMesh& mesh = bone.mesh();
-  return bone.any_along(p0, back, reach, lift, [&](Index g) {
+  const TriangleMesh& mesh = sight.bone.mesh();
+  return sight.bone.any_along(p0, back, reach, lift, [&](Index g) {
     const Triangle& t = mesh.triangles[g];
     const Vec3 &ga = mesh.positions[t[0]], &gb = mesh.positions[t[1]], &gc = mesh.positions[t[2]];
     const auto hit = ray_triangle(p0, back, ga, gb, gc, 1e-6);
@@ -64,11 +77,8 @@ std::vector<Sample> samples_of(const TriangleMesh& region, double spacing, std::
 }
 
 /// Hidden area of the samples along d, and per sample whether it is hidden.
-double hidden_area(const AabbTree& bone, const TriangleMesh& region, const std::vector<Sample>& samples, const Vec3& d,
+double hidden_area(const Sight& sight, const TriangleMesh& region, const std::vector<Sample>& samples, const Vec3& d,
                    std::vector<std::uint8_t>* flags) {
-  const BoundingBox box = bounding_box(bone.mesh());
-  const double reach = 2.0 * box.diagonal() + 1.0;
-  const double lift = 1e-9 * (box.diagonal() + 1.0);
   constexpr std::size_t kGrain = 256;
   std::vector<double> chunk_area((samples.size() + kGrain - 1) / kGrain, 0.0);
   if (flags) flags->assign(samples.size(), 0);
@@ -77,8 +87,7 @@ double hidden_area(const AabbTree& bone, const TriangleMesh& region, const std::
     for (std::size_t i = begin; i < end; ++i) {
       const Sample& s = samples[i];
       const Triangle& t = region.triangles[s.face];
-      if (!is_hidden(bone, s.point, region.positions[t[0]], region.positions[t[1]], region.positions[t[2]], d, reach,
-                     lift))
+      if (!is_hidden(sight, s.point, region.positions[t[0]], region.positions[t[1]], region.positions[t[2]], d))
         continue;
       sum += s.area;
       if (flags) (*flags)[i] = 1;
@@ -116,7 +125,7 @@ Undercut undercut(const AabbTree& bone, const TriangleMesh& region, const Vec3& 
   u.area_mm2 = surface_area(region);
   const std::vector<Sample> samples = samples_of(region, spacing, 1);
   std::vector<std::uint8_t> flags;
-  u.hidden_mm2 = hidden_area(bone, region, samples, u.direction, &flags);
+  u.hidden_mm2 = hidden_area(sight_of(bone), region, samples, u.direction, &flags);
   std::vector<double> hidden(region.face_count(), 0.0), total(region.face_count(), 0.0);
   for (std::size_t i = 0; i < samples.size(); ++i) {
     total[samples[i].face] += samples[i].area;
@@ -141,15 +150,16 @@ Vec3 least_undercut_direction(const AabbTree& bone, const TriangleMesh& region, 
   // Samples: face centres of about 4000 faces.
   const std::size_t stride = std::max<std::size_t>(1, region.face_count() / 4000);
   const std::vector<Sample> samples = samples_of(region, 0.0, stride);
+  const Sight sight = sight_of(bone);
   struct Best {
     Vec3 d;
     double hidden;
     double angle; // from m
-  } best{m, hidden_area(bone, region, samples, m, nullptr), 0.0};
+  } best{m, hidden_area(sight, region, samples, m, nullptr), 0.0};
   auto consider = [&](const Vec3& d) {
     const double angle = std::acos(std::clamp(d.dot(m), -1.0, 1.0));
     if (angle > std::numbers::pi / 3.0 + 1e-12) return false;
-    const double h = hidden_area(bone, region, samples, d, nullptr);
+    const double h = hidden_area(sight, region, samples, d, nullptr);
     if (h < best.hidden || (h == best.hidden && angle < best.angle)) {
       best = {d, h, angle};
       return true;

@@ -70,6 +70,11 @@ private:
     Index face;
   };
   Index build(std::vector<Item>& items, Index begin, Index end);
+  /// Calls leaf(face) for the triangles in the nodes whose boxes, grown by `pad`, the ray meets for t
+  /// in [t_min, t_max] (t_max read at every node: a leaf may shorten it), until leaf returns true;
+  /// returns whether it did. Defined in aabb_tree.cpp, used there only.
+  template <class Leaf> bool along(const Vec3& origin, const Vec3& direction, double t_min, const double& t_max,
+                                   double pad, Leaf&& leaf) const;
   void self_pairs(Index a, Index b, const std::function<void(Index, Index)>& visit) const;
   void cross_pairs(Index a, const AabbTree& other, Index b, const std::function<void(Index, Index)>& visit) const;
 
