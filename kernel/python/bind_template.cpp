@@ -101,7 +101,8 @@ void bind_template(py::module_& m) {
       "design_template",
       [](const Points& v, const Faces& f, const Points& boundary_points, double thickness, double clearance,
          double resolution, int sampling_step, const py::object& inside, double max_snap_distance, bool check,
-         bool simplify_outer, const py::object& tubes, double tube_tolerance, bool fit, const py::object& insertion) {
+         bool simplify_outer, const py::object& tubes, double tube_tolerance, bool fit, const py::object& insertion,
+         const py::object& block_out) {
         const TriangleMesh bone = to_mesh(v, f, "bone");
         TemplateOptions o;
         o.boundary_points = to_points(boundary_points, "boundary_points");
@@ -118,6 +119,7 @@ void bind_template(py::module_& m) {
         o.tube_tolerance = tube_tolerance;
         o.analyse_insertion = !insertion.is_none();
         o.insertion = to_insertion(insertion).second;
+        o.block_out = block_out.is_none() ? o.analyse_insertion : block_out.cast<bool>();
         TemplateResult r;
         {
           py::gil_scoped_release release;
@@ -133,23 +135,31 @@ void bind_template(py::module_& m) {
         d["curve"] = from_points(r.curve);
         d["outer_curve"] = from_points(r.outer_curve);
         if (o.check) d["solid"] = solid_dict(r.solid);
-        if (r.insertion.analysed)
-          d["insertion"]["hidden"] =
-              py::array_t<float>(static_cast<py::ssize_t>(r.insertion.hidden.size()), r.insertion.hidden.data());
+        if (const InsertionReport& ins = r.insertion; ins.analysed) {
+          py::dict i = d["insertion"];
+          i["hidden"] = py::array_t<float>(static_cast<py::ssize_t>(ins.hidden.size()), ins.hidden.data());
+          i["region"] = from_mesh(ins.region);
+          i["filled"] = py::array_t<std::uint8_t>(static_cast<py::ssize_t>(ins.filled.size()), ins.filled.data());
+          i["blocked_faces"] =
+              py::array_t<std::uint8_t>(static_cast<py::ssize_t>(ins.blocked_faces.size()), ins.blocked_faces.data());
+        }
         return d;
       },
       py::arg("vertices"), py::arg("triangles"), py::arg("boundary_points"), py::arg("thickness"),
       py::arg("clearance") = 0.0, py::arg("resolution") = 0.0, py::arg("sampling_step") = 0,
       py::arg("inside") = py::none(), py::arg("max_snap_distance") = tol::kMaxSnapDistance_mm, py::arg("check") = true,
       py::arg("simplify_outer") = false, py::arg("tubes") = py::none(), py::arg("tube_tolerance") = 0.01,
-      py::arg("fit") = true, py::arg("insertion") = py::none(),
+      py::arg("fit") = true, py::arg("insertion") = py::none(), py::arg("block_out") = py::none(),
       "Designs the template (closed shell) on a bone mesh, with its drilling tubes (dicts with the case file's "
       "tube keys) merged and bored. Returns a dict with 'shell' (the guide), 'body' (before the tubes; its first "
       "'inner_faces' faces are the inner surface), 'inner', 'outer' (each (vertices, triangles)), 'from_tube' "
       "(per shell face), 'tubes' (placements), 'curve', and the report's 'counts', 'times' (s), 'boolean', 'solid' and "
       "(with fit=True) 'fit' (the keys of the tool's --report, st/io/report.h). insertion='auto' or a direction "
-      "adds 'insertion' (direction, auto, region_area_mm2, undercut_area_mm2, and 'hidden': per inner-surface face, "
-      "the fraction the guide cannot reach; undercuts are measured, not yet blocked out).");
+      "adds 'insertion': the report's insertion keys (direction, auto, undercut_area_mm2, blocked_out_volume_mm3, "
+      "removable, blocking, contact_area_mm2, ...), 'region' (the covered bone, (vertices, triangles)), 'hidden' "
+      "(per region face, the fraction the guide cannot reach along the direction), 'filled' (per inner face, 1 for "
+      "a block-out fill) and 'blocked_faces' (per shell face, 1 where it meets the bone on the way off). block_out "
+      "(default: with an insertion) blocks the undercuts out before the clearance.");
 
   m.def(
       "add_tubes",

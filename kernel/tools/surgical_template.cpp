@@ -9,6 +9,7 @@
 //
 // Exit codes: 0 done, 1 the geometry cannot give a template (message says where), 2 invalid input.
 
+#include "detail/format.h"
 #include "detail/input_file.h"
 #include "st/boolean/boolean.h"
 #include "st/io/case_file.h"
@@ -227,11 +228,35 @@ int design(int argc, char** argv) {
   std::printf("  times (s): inner %.3f  offset %.3f  outer points %.3f  outer cut %.3f  connection %.3f  total %.3f\n",
               t.inner_segmentation, t.offset, t.outer_points, t.outer_segmentation, t.connection, t.total);
   if (!r.tubes.empty()) std::printf("  %zu drilling tube(s) merged and bored in %.3f s\n", r.tubes.size(), t.boolean);
-  if (r.insertion.analysed)
-    std::printf("  insertion: along (%.3f, %.3f, %.3f)%s; undercut %.1f of %.1f mm^2 (not blocked out) in %.3f s\n",
-                r.insertion.direction.x(), r.insertion.direction.y(), r.insertion.direction.z(),
-                r.insertion.automatic ? ", the least-undercut direction" : "", r.insertion.undercut_area_mm2,
-                r.insertion.region_area_mm2, t.insertion);
+  if (const st::InsertionReport& ins = r.insertion; ins.analysed) {
+    std::printf("  insertion: along (%.3f, %.3f, %.3f)%s; undercut %.1f of %.1f mm^2 in %.3f s\n", ins.direction.x(),
+                ins.direction.y(), ins.direction.z(), ins.automatic ? ", the least-undercut direction" : "",
+                ins.undercut_area_mm2, ins.region_area_mm2, t.insertion);
+    if (ins.blocked_out)
+      std::printf("  block-out: %zu zone(s) filled (%.1f mm^3), %zu at the rim cut off (%.1f mm^2), %zu left as they "
+                  "were, in %.3f s\n",
+                  ins.blocked_out_zones, ins.blocked_out_volume_mm3, ins.trimmed_zones, ins.trimmed_area_mm2,
+                  ins.unfilled.size(), t.block_out);
+    if (ins.removal_checked) {
+      if (ins.removable)
+        std::printf("  removal: the guide comes off along (%.3f, %.3f, %.3f) over %.0f mm without meeting the bone; "
+                    "%.0f%% of its inner surface in contact (checked in %.3f s)\n",
+                    -ins.direction.x(), -ins.direction.y(), -ins.direction.z(), ins.removal_distance,
+                    100.0 * ins.contact_area_mm2 / std::max(ins.inner_area_mm2, 1e-300), t.removal);
+      else
+        std::printf("  removal: the guide meets the bone when it comes off along (%.3f, %.3f, %.3f), first near %s "
+                    "(%zu place(s)); checked in %.3f s\n",
+                    -ins.direction.x(), -ins.direction.y(), -ins.direction.z(),
+                    st::detail::where(ins.blocking.front()).c_str(), ins.blocking.size(), t.removal);
+      if (!ins.removable)
+        std::fprintf(
+            stderr,
+            "warning: %s: the guide cannot come off the bone along its insertion direction (it meets "
+            "the bone near %s)%s\n",
+            c.name.c_str(), st::detail::where(ins.blocking.front()).c_str(),
+            ins.blocked_out ? "" : "; set template.insertion to \"auto\" or a direction to block the undercuts out");
+    }
+  }
 
   if (!report_path.empty()) {
     nlohmann::json rep = st::to_json(r, o);

@@ -128,8 +128,13 @@ TEST(CaseFile, InsertionIsADirectionOrAutoAndReadsBack) {
   const CaseFile read_auto = read_case((dir / "auto.json").string());
   expect_same_case(automatic, read_auto);
   EXPECT_FALSE(template_options(read_auto).insertion.has_value());
-  // Until undercuts are blocked out, a case that asks for an insertion direction is told so.
-  EXPECT_FALSE(read_auto.warnings.empty());
+  // A case that names an insertion direction gets its undercuts blocked out; one without keeps the
+  // guide it always had (analysed, not changed).
+  EXPECT_TRUE(read_auto.warnings.empty());
+  EXPECT_TRUE(template_options(read_auto).block_out);
+  EXPECT_TRUE(template_options(read_along).block_out);
+  EXPECT_FALSE(template_options(base).block_out);
+  EXPECT_TRUE(template_options(base).analyse_insertion);
 
   const std::string text = "{\"format\": \"surgical-template-case/1\", \"bone\": \"b.stl\", \"boundary\": "
                            "{\"points\": [[0,0,0],[1,0,0],[0,1,0]]}, \"template\": {\"thickness\": 2, "

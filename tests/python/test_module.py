@@ -47,7 +47,15 @@ def test_insertion_analysis_of_a_cap_beyond_the_equator(stk):
     ins = down["insertion"]
     assert not ins["auto"] and np.allclose(ins["direction"], [0, 0, -1])
     assert abs(ins["undercut_area_mm2"] - band) < 0.05 * band
-    assert ins["hidden"].shape == (len(down["inner"][1]),)
+    assert ins["hidden"].shape == (len(ins["region"][1]),)
+    # Blocked out (the default with an insertion), the band under the equator reaches the rim: it is
+    # cut off, so the guide ends at the equator and comes off upwards.
+    assert ins["blocked_out"] and ins["trimmed_zones"] >= 1
+    assert abs(ins["trimmed_area_mm2"] - band) < 0.1 * band
+    checked = stk.design_template(V, F, ring, thickness=2.0, inside=[0, 0, 20], insertion=[0, 0, -1])
+    assert checked["solid"]["valid"] and checked["insertion"]["removable"]
+    kept = stk.design_template(V, F, ring, thickness=2.0, inside=[0, 0, 20], insertion=[0, 0, -1], block_out=False)
+    assert not kept["insertion"]["removable"] and len(kept["insertion"]["blocking"]) > 0
     auto = stk.design_template(V, F, ring, thickness=2.0, inside=[0, 0, 20], insertion="auto", check=False)
     assert auto["insertion"]["auto"]
     assert auto["insertion"]["undercut_area_mm2"] <= ins["undercut_area_mm2"] + 0.01 * band  # sampling

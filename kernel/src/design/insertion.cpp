@@ -22,9 +22,9 @@ struct Sight {
   double lift;
 };
 
-Sight sight_of(const AabbTree& bone) {
+Sight sight_of(const AabbTree& bone, double reach) {
   const double size = bounding_box(bone.mesh()).diagonal() + 1.0;
-  return {bone, 2.0 * size, 1e-9 * size};
+  return {bone, std::min(reach, 2.0 * size), 1e-9 * size};
 }
 
 /// Samples of a region's faces: centre, face, weight (area).
@@ -44,9 +44,12 @@ bool is_hidden(const Sight& sight, const Vec3& p, const Vec3& a, const Vec3& b, 
   // the face looks away from the guide coming along d.
   const int side = orient3d(a, b, c, a + d);
   if (side < 0) return true;
-  if (side == 0) return false; // a wall parallel to d (see insertion.h)
   const Vec3 back = -d;
-  const Vec3 p0 = p + lift * back, q = p + reach * back;
+  Vec3 p0 = p + lift * back;
+  // A wall parallel to d: the segment runs a lift off it, on its outer side, so that it passes beside
+  // the wall's own edges and meets only bone that overhangs the wall (see insertion.h).
+  if (side == 0) p0 += lift * (b - a).cross(c - a).normalized();
+  const Vec3 q = p0 + reach * back;
   const TriangleMesh& mesh = sight.bone.mesh();
   return sight.bone.any_along(p0, back, reach, lift, [&](Index g) {
     const Triangle& t = mesh.triangles[g];
@@ -118,14 +121,16 @@ Vec3 tilted(const Vec3& d, const Vec3& towards, double angle) {
 
 } // namespace
 
-Undercut undercut(const AabbTree& bone, const TriangleMesh& region, const Vec3& direction, double spacing) {
+Undercut undercut(const AabbTree& bone, const TriangleMesh& region, const Vec3& direction, double spacing,
+                  double reach) {
   if (!(spacing > 0.0) || !std::isfinite(spacing)) throw InvalidInput("undercut: the sample spacing must be > 0 mm");
+  if (!(reach > 0.0)) throw InvalidInput("undercut: the reach must be > 0 mm");
   Undercut u;
   u.direction = checked_direction(direction);
   u.area_mm2 = surface_area(region);
   const std::vector<Sample> samples = samples_of(region, spacing, 1);
   std::vector<std::uint8_t> flags;
-  u.hidden_mm2 = hidden_area(sight_of(bone), region, samples, u.direction, &flags);
+  u.hidden_mm2 = hidden_area(sight_of(bone, reach), region, samples, u.direction, &flags);
   std::vector<double> hidden(region.face_count(), 0.0), total(region.face_count(), 0.0);
   for (std::size_t i = 0; i < samples.size(); ++i) {
     total[samples[i].face] += samples[i].area;
@@ -137,7 +142,8 @@ Undercut undercut(const AabbTree& bone, const TriangleMesh& region, const Vec3& 
   return u;
 }
 
-Vec3 least_undercut_direction(const AabbTree& bone, const TriangleMesh& region, const std::optional<Vec3>& start) {
+Vec3 least_undercut_direction(const AabbTree& bone, const TriangleMesh& region, const std::optional<Vec3>& start,
+                              double reach) {
   Vec3 m;
   if (start) {
     m = checked_direction(*start);
@@ -150,7 +156,7 @@ Vec3 least_undercut_direction(const AabbTree& bone, const TriangleMesh& region, 
   // Samples: face centres of about 4000 faces.
   const std::size_t stride = std::max<std::size_t>(1, region.face_count() / 4000);
   const std::vector<Sample> samples = samples_of(region, 0.0, stride);
-  const Sight sight = sight_of(bone);
+  const Sight sight = sight_of(bone, reach);
   struct Best {
     Vec3 d;
     double hidden;

@@ -1,6 +1,8 @@
 #include "st/design/template_design.h"
 
+#include "st/design/blockout.h"
 #include "st/design/insertion.h"
+#include "st/validate/removal.h"
 
 #include "st/core/aabb_tree.h"
 #include "st/design/cut.h"
@@ -133,20 +135,78 @@ std::vector<Index> faces_near(const TriangleMesh& mesh, const TriangleMesh& regi
 
 // The undercut of the covered bone along the given direction or the least-undercut one, sampled
 // at about 20000 points (at least 0.05 mm apart).
-InsertionReport analyse_insertion(const TriangleMesh& bone, const TriangleMesh& region,
-                                  const std::optional<Vec3>& direction) {
-  const AabbTree tree(bone);
+InsertionReport analyse_insertion(const AabbTree& tree, const TriangleMesh& region,
+                                  const std::optional<Vec3>& direction, double reach) {
   InsertionReport report;
   report.analysed = true;
   report.automatic = !direction;
-  const Vec3 d = direction ? *direction : least_undercut_direction(tree, region);
+  const Vec3 d = direction ? *direction : least_undercut_direction(tree, region, std::nullopt, reach);
   const double area = surface_area(region);
-  const Undercut u = undercut(tree, region, d, std::max(0.05, std::sqrt(2.0 * area / 20000.0)));
+  const Undercut u = undercut(tree, region, d, std::max(0.05, std::sqrt(2.0 * area / 20000.0)), reach);
   report.direction = u.direction;
   report.region_area_mm2 = u.area_mm2;
   report.undercut_area_mm2 = u.hidden_mm2;
   report.hidden = u.hidden;
+  report.region = region;
   return report;
+}
+
+// The region's faces after block-out, its unused vertices dropped (rim and sources renumbered).
+void apply_block_out(CutResult& inner, BlockOutResult&& b) {
+  std::vector<Index> renumber(inner.region.vertex_count(), kInvalidIndex);
+  Index used = 0;
+  for (Triangle& t : b.triangles)
+    for (Index& v : t) {
+      if (renumber[v] == kInvalidIndex) renumber[v] = used++;
+      v = renumber[v];
+    }
+  TriangleMesh region;
+  region.positions.resize(used);
+  std::vector<CutResult::Source> source(used);
+  std::vector<Index> source_vertex(used);
+  for (Index v = 0; v < renumber.size(); ++v)
+    if (renumber[v] != kInvalidIndex) {
+      region.positions[renumber[v]] = inner.region.positions[v];
+      source[renumber[v]] = inner.source[v];
+      source_vertex[renumber[v]] = inner.source_vertex[v];
+    }
+  region.triangles = std::move(b.triangles);
+  inner.region = std::move(region);
+  if (b.rim_changed) {
+    // Trimmed zones: the rim is the region's one border loop (block_out checked there is one), from
+    // the same place on the old rim where it can.
+    std::vector<Index> rim = border_loops(inner.region, MeshTopology(inner.region).all_opposites()).front();
+    inner.rim = std::move(rim);
+  } else {
+    for (Index& v : inner.rim) v = renumber[v];
+  }
+  inner.source = std::move(source);
+  inner.source_vertex = std::move(source_vertex);
+}
+
+// The inner surface's area within `reach` of the bone: kept faces lie at the clearance (their
+// whole area counts); block-out fills are sampled (16 points each).
+double contact_area(const TriangleMesh& inner, const std::vector<std::uint8_t>& filled, const AabbTree& bone,
+                    double reach) {
+  double area = 0.0;
+  for (Index f = 0; f < inner.face_count(); ++f) {
+    const Triangle& t = inner.triangles[f];
+    const Vec3 &a = inner.positions[t[0]], &b = inner.positions[t[1]], &c = inner.positions[t[2]];
+    const double full = 0.5 * (b - a).cross(c - a).norm();
+    if (f >= filled.size() || !filled[f]) {
+      area += full;
+      continue;
+    }
+    constexpr int k = 4;
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; i + j < k; ++j)
+        for (int up = 0; up < (i + j + 2 <= k ? 2 : 1); ++up) {
+          const double s = (i + (up ? 2.0 : 1.0) / 3.0) / k, r = (j + (up ? 2.0 : 1.0) / 3.0) / k;
+          const Vec3 p = a + s * (b - a) + r * (c - a);
+          if (const auto cp = bone.closest_point(p, reach); cp && cp->distance <= reach) area += full / (k * k);
+        }
+  }
+  return area;
 }
 
 double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
@@ -177,15 +237,35 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   cut_options.inside = options.inside;
   CutResult inner = cut_region(topology, curve, cut_options);
   const TriangleMesh bone_region = inner.region;
+  result.times.inner_segmentation = seconds_since(t0);
+  std::optional<AabbTree> bone_tree;
+  if (options.analyse_insertion) {
+    t0 = Clock::now();
+    bone_tree.emplace(bone);
+    result.insertion = analyse_insertion(*bone_tree, bone_region, options.insertion, options.removal_distance);
+    result.times.insertion = seconds_since(t0);
+    if (options.block_out && result.insertion.undercut_area_mm2 > 0.0) {
+      t0 = Clock::now();
+      BlockOutResult b = block_out(*bone_tree, bone_region, result.insertion.hidden, result.insertion.direction,
+                                   options.removal_distance);
+      InsertionReport& ins = result.insertion;
+      ins.blocked_out = true;
+      ins.blocked_out_volume_mm3 = b.volume_mm3;
+      ins.blocked_out_zones = b.filled_zones;
+      ins.trimmed_zones = b.trimmed_zones;
+      ins.trimmed_area_mm2 = b.trimmed_area_mm2;
+      ins.unfilled = b.unfilled;
+      ins.filled = b.filled;
+      apply_block_out(inner, std::move(b));
+      result.times.block_out = seconds_since(t0);
+      result.times.inner_segmentation += result.times.block_out;
+    }
+  }
+  t0 = Clock::now();
   displace(topology, inner, options.clearance);
   result.curve = curve.polyline;
   result.inner_rim_points = inner.rim.size();
-  result.times.inner_segmentation = seconds_since(t0);
-  if (options.analyse_insertion) {
-    t0 = Clock::now();
-    result.insertion = analyse_insertion(bone, bone_region, options.insertion);
-    result.times.insertion = seconds_since(t0);
-  }
+  result.times.inner_segmentation += seconds_since(t0);
 
   // 2. Offset of the inner surface.
   t0 = Clock::now();
@@ -377,6 +457,21 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   }
   result.inner = std::move(inner.region);
   result.outer = std::move(outer->region);
+  if (options.analyse_insertion && options.check) {
+    t0 = Clock::now();
+    InsertionReport& ins = result.insertion;
+    const RemovalReport removal = check_removal(*bone_tree, result.shell, ins.direction, options.removal_distance);
+    ins.removal_checked = true;
+    ins.removable = removal.removable;
+    ins.removal_distance = removal.distance;
+    ins.blocking = removal.blocking;
+    ins.blocked_faces = removal.blocked_faces;
+    ins.inner_area_mm2 = surface_area(result.inner);
+    ins.contact_area_mm2 =
+        contact_area(result.inner, ins.filled, *bone_tree, options.clearance + 0.25 * result.resolution);
+    result.times.removal = seconds_since(t0);
+    result.times.validation += result.times.removal;
+  }
   if (options.check && options.measure_fit) {
     t0 = Clock::now();
     result.fit.inner_to_bone = distances_to_surface(result.inner.positions, bone_region);

@@ -35,6 +35,7 @@ TemplateOptions template_options(const CaseFile& c) {
   o.tubes = c.tubes;
   o.analyse_insertion = true;
   o.insertion = c.insertion;
+  o.block_out = c.insertion.has_value() || c.insertion_auto;
   return o;
 }
 
@@ -108,8 +109,6 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
       if (!(d.norm() > 0.0)) r.fail("template.insertion", "must be a non-zero direction");
       c.insertion = d.normalized();
     }
-    c.warnings.push_back("template.insertion: undercuts along it are measured (insertion in the report) but not yet "
-                         "blocked out");
   }
 
   if (doc.contains("tubes")) {

@@ -65,13 +65,33 @@ nlohmann::json to_json(const TemplateResult& r, const TemplateOptions& options) 
                   {"initial_template_generation", t.total},
                   {"boolean_operation", t.boolean},
                   {"validation", t.validation},
-                  {"insertion_analysis", t.insertion}};
-  if (r.insertion.analysed)
-    out["insertion"] = {
-        {"direction", {r.insertion.direction.x(), r.insertion.direction.y(), r.insertion.direction.z()}},
-        {"auto", r.insertion.automatic},
-        {"region_area_mm2", r.insertion.region_area_mm2},
-        {"undercut_area_mm2", r.insertion.undercut_area_mm2}};
+                  {"insertion_analysis", t.insertion},
+                  {"block_out", t.block_out},
+                  {"removal_check", t.removal}};
+  if (const InsertionReport& ins = r.insertion; ins.analysed) {
+    auto points = [](const std::vector<Vec3>& ps) {
+      nlohmann::json a = nlohmann::json::array();
+      for (const Vec3& p : ps) a.push_back({p.x(), p.y(), p.z()});
+      return a;
+    };
+    out["insertion"] = {{"direction", {ins.direction.x(), ins.direction.y(), ins.direction.z()}},
+                        {"auto", ins.automatic},
+                        {"region_area_mm2", ins.region_area_mm2},
+                        {"undercut_area_mm2", ins.undercut_area_mm2},
+                        {"blocked_out", ins.blocked_out},
+                        {"blocked_out_volume_mm3", ins.blocked_out_volume_mm3},
+                        {"blocked_out_zones", ins.blocked_out_zones},
+                        {"trimmed_zones", ins.trimmed_zones},
+                        {"trimmed_area_mm2", ins.trimmed_area_mm2},
+                        {"unfilled", points(ins.unfilled)}};
+    if (ins.removal_checked) {
+      out["insertion"]["removable"] = ins.removable;
+      out["insertion"]["removal_distance_mm"] = ins.removal_distance;
+      out["insertion"]["blocking"] = points(ins.blocking);
+      out["insertion"]["contact_area_mm2"] = ins.contact_area_mm2;
+      out["insertion"]["inner_area_mm2"] = ins.inner_area_mm2;
+    }
+  }
   out["tubes"] = placements(r.tubes);
   out["boolean"] = {{"perturbed_operations", r.perturbed_operations},
                     {"max_perturbation_mm", r.max_perturbation},

@@ -1,7 +1,8 @@
 """The template (Mesh::FeaturePython): the shell the kernel designs inside a boundary (Thickness,
 Clearance, Resolution); a kernel failure raises in execute() and the object keeps its last good mesh.
-Insertion (Auto, Direction, None) asks the kernel for the undercut of the covered bone along the
-least-undercut direction or InsertionDirection (measured, not yet blocked out); UndercutArea holds it."""
+Insertion (Auto, Direction, None): along the least-undercut direction or InsertionDirection the kernel
+blocks the undercuts out and checks that the finished guide comes off (UndercutArea, BlockedOutVolume,
+Removable hold the results); None keeps the bone's surface as it is, with no analysis."""
 import FreeCAD as App
 
 import st_bridge
@@ -45,7 +46,12 @@ class Template(Feature):
                  App.Vector(0, 0, -1))
         self.add(obj, "App::PropertyArea", "UndercutArea", "Result",
                  "Bone area under the template the guide cannot reach along its insertion direction "
-                 "(not yet blocked out)", 0.0, readonly=True)
+                 "(before block-out)", 0.0, readonly=True)
+        self.add(obj, "App::PropertyVolume", "BlockedOutVolume", "Result",
+                 "Volume the block-out fills over the bone's undercuts", 0.0, readonly=True)
+        self.add(obj, "App::PropertyBool", "Removable", "Result",
+                 "The guide comes off 20 mm against its insertion direction without meeting the bone",
+                 False, readonly=True)
         self.add(obj, "App::PropertyInteger", "InnerFaces", "Result",
                  "The first facets that form the inner surface (the seat on the bone)", 0, readonly=True)
         self.add(obj, "App::PropertyString", "Status", "Result", "What the kernel reported", "", readonly=True)
@@ -72,3 +78,11 @@ class Template(Feature):
             d = ins["direction"]
             obj.Status += (f"; undercut {ins['undercut_area_mm2']:.1f} mm^2 along ({d[0]:.3f}, {d[1]:.3f}, "
                            f"{d[2]:.3f})")
+            if "Removable" in obj.PropertiesList:
+                obj.BlockedOutVolume = float(ins["blocked_out_volume_mm3"])
+                obj.Removable = bool(ins.get("removable", False))
+                if ins.get("removable"):
+                    obj.Status += "; comes off along it"
+                elif ins.get("blocking"):
+                    p = ins["blocking"][0]
+                    obj.Status += f"; meets the bone coming off near ({p[0]:.2f}, {p[1]:.2f}, {p[2]:.2f})"

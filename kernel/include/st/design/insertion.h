@@ -4,9 +4,11 @@
 //
 // A point p of the region is reachable along d when the face it lies on looks at the guide (its
 // outward normal n has n . d < 0, decided with orient3d) and the segment from p back along -d, as
-// long as the bone's bounding box, meets no face of the bone (exact segment-triangle test), or when
-// the face is parallel to d (exactly): a wall the guide slides along, counted as reached (an overhang
-// above it hides the faces at its foot, which are counted). Bone anywhere, also outside the region,
+// long as the guide is lifted to come off (`reach`, 20 mm in the pipeline; by default as long as the
+// bone's bounding box), meets no face of the bone (exact segment-triangle test). A face
+// parallel to d (exactly: a wall the guide slides along) is reached unless bone overhangs it: its
+// segment starts a lift off the wall on its outer side, so it passes beside the wall's own edges
+// (a box's side wall is reached, the post under a tooth's bulge is not). Bone anywhere, also outside the region,
 // can hide a point. The segment starts a nanometre-scale length off p, so that the bone face p lies
 // on, to rounding, does not count. Faces are sampled by area (each split into
 // k x k equal triangles, k = ceil(longest edge / spacing), one sample at each centre), so the hidden
@@ -16,6 +18,7 @@
 #include "st/core/aabb_tree.h"
 #include "st/core/mesh.h"
 
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -31,7 +34,8 @@ struct Undercut {
 /// The undercut of `region` (faces of the bone, oriented outward) seen along `direction` against the
 /// whole bone `bone`, sampled every `spacing` mm. Throws InvalidInput for a zero or non-finite
 /// direction or a spacing that is not > 0.
-Undercut undercut(const AabbTree& bone, const TriangleMesh& region, const Vec3& direction, double spacing);
+Undercut undercut(const AabbTree& bone, const TriangleMesh& region, const Vec3& direction, double spacing,
+                  double reach = std::numeric_limits<double>::infinity());
 
 /// The direction with the least hidden area within 60 degrees of `start` (by default the region's
 /// inward mean normal): a coarse search (every 7.5 degrees in angle from `start` and 30 degrees
@@ -39,6 +43,7 @@ Undercut undercut(const AabbTree& bone, const TriangleMesh& region, const Vec3& 
 /// halving steps down to 1/8 degree. Among equal areas the direction nearest `start` wins, so the
 /// search ends at `start` when nothing is hidden along it, and after the first ring with a zero.
 Vec3 least_undercut_direction(const AabbTree& bone, const TriangleMesh& region,
-                              const std::optional<Vec3>& start = std::nullopt);
+                              const std::optional<Vec3>& start = std::nullopt,
+                              double reach = std::numeric_limits<double>::infinity());
 
 } // namespace st

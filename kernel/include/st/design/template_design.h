@@ -34,10 +34,15 @@ struct TemplateOptions {
   bool measure_fit = true; ///< with check: also measure the fit (TemplateResult::fit)
   /// Insertion analysis (insertion.h): the undercut of the covered bone along `insertion` (the
   /// direction the guide moves onto the bone), or along the least-undercut direction when it is not
-  /// given. Undercuts are measured, not yet blocked out. Off by default (the case file path, the
-  /// tool and the workbench turn it on).
+  /// given, and the removal check of the finished guide along it (removal.h). Off by default (the
+  /// case file path, the tool and the workbench turn it on).
   bool analyse_insertion = false;
   std::optional<Vec3> insertion;
+  /// With analyse_insertion: block the undercuts out (blockout.h) before the clearance, so that the
+  /// inner surface is what the guide can reach along the direction. A case file turns it on when it
+  /// names template.insertion; without that key a case keeps the guide it always had.
+  bool block_out = false;
+  double removal_distance = 20.0; ///< how far the removal check moves the guide off, mm
   /// Drilling tubes merged into the shell (guide.h); empty for a template without sleeves.
   std::vector<TubeSpec> tubes;
   double tube_tolerance = 0.01; ///< chordal tolerance of sleeves and bores, mm
@@ -54,6 +59,8 @@ struct TemplateTimes {
   double boolean = 0.0;    ///< tubes merged and bores cut: the paper's "Runtime of Boolean operation"
   double validation = 0.0; ///< not part of total
   double insertion = 0.0;  ///< the insertion analysis; not part of total
+  double block_out = 0.0;  ///< the undercut block-out; part of inner_segmentation
+  double removal = 0.0;    ///< the removal check; part of validation
 };
 
 /// Where the guide goes on (TemplateOptions::analyse_insertion).
@@ -63,7 +70,22 @@ struct InsertionReport {
   bool automatic = false;         ///< the least-undercut direction (no direction was given)
   double region_area_mm2 = 0.0;   ///< the covered bone's area
   double undercut_area_mm2 = 0.0; ///< of it, what the guide cannot reach along `direction`
-  std::vector<float> hidden;      ///< per inner-surface face, the fraction of its area hidden
+  TriangleMesh region;            ///< the covered bone (the inner surface before block-out and clearance)
+  std::vector<float> hidden;      ///< per face of `region`, the fraction of its area hidden
+  bool blocked_out = false;       ///< the undercuts were blocked out (TemplateOptions::block_out)
+  double blocked_out_volume_mm3 = 0.0;
+  std::size_t blocked_out_zones = 0; ///< hidden zones filled
+  std::size_t trimmed_zones = 0;     ///< hidden zones at the rim cut off (the guide ends where the bone turns under)
+  double trimmed_area_mm2 = 0.0;
+  std::vector<Vec3> unfilled;              ///< a point of each hidden zone block-out left as it was
+  std::vector<std::uint8_t> filled;        ///< per inner-surface face: 1 for a block-out fill
+  double contact_area_mm2 = 0.0;           ///< inner surface within clearance + h/4 of the bone
+  double inner_area_mm2 = 0.0;             ///< the inner surface's area
+  bool removal_checked = false;            ///< the removal check ran (needs options.check)
+  bool removable = false;                  ///< the guide moves off along -direction without meeting the bone
+  double removal_distance = 0.0;           ///< how far, mm
+  std::vector<Vec3> blocking;              ///< where it meets the bone, when not removable
+  std::vector<std::uint8_t> blocked_faces; ///< per shell face: 1 where it meets the bone on the way off
 };
 
 struct TemplateFit {

@@ -1,0 +1,68 @@
+#pragma once
+// Removal check: whether a finished guide, moved off the bone against its insertion direction d by up
+// to a distance L (20 mm), meets the bone on the way.
+//
+// Method. The guide G moving by t * (-d) meets the bone B for some t in (0, L] exactly when the solid
+// swept by one of G's triangles meets one of B's, and two triangles in translation first meet
+// vertex-on-face or edge-on-edge. So three families of exact segment tests, each after a box filter
+// on an AABB tree:
+//   - every guide vertex's path, the segment from it along -d by L, against the bone's triangles;
+//   - every bone vertex near the guide, along +d by L (the guide's motion seen from the bone), against
+//     the guide's triangles;
+//   - every bone edge near a guide edge against the parallelogram that guide edge sweeps (its two
+//     triangles).
+// A segment crosses a triangle when its ends lie strictly on either side of the triangle's plane
+// (orient3d, not zero) and the line meets the closed triangle (three orient3d of one sign).
+// Contact is not blocking: the bone is first shrunk by a lift along its vertex normals (1 um, or
+// 2^-20 of its largest coordinate when that is more) and the guide starts a lift along its way off,
+// so a guide resting on the bone, or sliding along a wall parallel to d, is separated from it; what
+// the exact tests then find reaches deeper than the lift. A bone vertex the guide copies (zero
+// clearance; a rim through a bone vertex) touches the guide there and is left to the other families,
+// as are bone edges from such a vertex against the guide edges from it. The lift is far below what a
+// printer resolves (25-100 um) and above the rounding of the files read and written (float32: 2^-24
+// of a coordinate, 0.012 um at 200 mm), and above the fraction of a micrometre by which scanned bone
+// beyond the rim can lean over the guide's last face. Blocking places are reported on the guide.
+
+#include "st/core/aabb_tree.h"
+#include "st/core/mesh.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace st {
+
+struct RemovalReport {
+  bool removable = true;
+  double distance = 0.0;                   ///< how far the guide was moved, mm
+  std::size_t blocked_features = 0;        ///< guide vertices, bone vertices and edge pairs that meet
+  std::vector<Vec3> blocking;              ///< where the guide meets the bone (at most 20 places, 2 mm apart)
+  std::vector<std::uint8_t> blocked_faces; ///< per guide face: 1 where it meets the bone on the way off
+};
+
+/// How the moving mesh starts: a guide starts a lift along its way off (it may rest on the bone); a
+/// part of the bone's own surface is also raised by the lift along its normals (to ask which of its faces the bone
+/// hides along the direction: the block-out's exact visibility, blockout.h).
+enum class SweepStart { shrunk, raised };
+
+/// The removal check's tests against one bone, prepared once (the bone shrunk by the lift) for
+/// many meshes: the block-out asks it about each fill it makes.
+class SweepTest {
+public:
+  explicit SweepTest(const AabbTree& bone); ///< keeps a reference to the tree
+  /// check_removal(bone, mesh, direction, distance, start) with the bone prepared.
+  RemovalReport operator()(const TriangleMesh& mesh, const Vec3& direction, double distance,
+                           SweepStart start = SweepStart::shrunk) const;
+
+private:
+  const AabbTree& bone_;
+  std::vector<Vec3> shrunk_;
+  double lift_ = 0.0;
+};
+
+/// Moves `guide` along -`direction` (the insertion direction, onto the bone; need not be unit) by up
+/// to `distance` mm and reports where it meets `bone`. Throws InvalidInput for a zero direction or a
+/// distance that is not > 0.
+RemovalReport check_removal(const AabbTree& bone, const TriangleMesh& guide, const Vec3& direction,
+                            double distance = 20.0, SweepStart start = SweepStart::shrunk);
+
+} // namespace st

@@ -1,0 +1,200 @@
+#include "st/validate/removal.h"
+
+#include "detail/format.h"
+#include "detail/parallel.h"
+#include "st/core/errors.h"
+#include "st/core/predicates.h"
+#include "st/core/ray_triangle.h"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+
+namespace st {
+
+namespace {
+
+/// Closer than this, the guide touches the bone without being blocked (see removal.h).
+constexpr double kContact_mm = 1e-3;
+
+/// Whether the segment [p, q] passes from one side of the plane of (a, b, c) to the other through the
+/// closed triangle (see removal.h).
+bool crosses(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const int sp = orient3d(a, b, c, p), sq = orient3d(a, b, c, q);
+  if (sp == 0 || sq == 0 || sp == sq) return false;
+  const int s1 = orient3d(p, q, a, b), s2 = orient3d(p, q, b, c), s3 = orient3d(p, q, c, a);
+  return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
+}
+
+struct Hit {
+  Vec3 place;
+  Index face; // a guide face at the place
+};
+
+class Collector {
+public:
+  void add(const Hit& hit) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    hits_.push_back(hit);
+  }
+  std::vector<Hit> take() { return std::move(hits_); }
+
+private:
+  std::mutex mutex_;
+  std::vector<Hit> hits_;
+};
+
+} // namespace
+
+SweepTest::SweepTest(const AabbTree& bone) : bone_(bone) {
+  const TriangleMesh& mesh = bone.mesh();
+  const BoundingBox box = bounding_box(mesh);
+  const double magnitude = mesh.empty() ? 1.0 : std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
+  lift_ = std::max(kContact_mm, std::ldexp(std::max(magnitude, 1.0), -20));
+  shrunk_ = mesh.positions;
+  const std::vector<Vec3> normals = vertex_normals(mesh);
+  for (std::size_t i = 0; i < shrunk_.size(); ++i) shrunk_[i] -= lift_ * normals[i];
+}
+
+RemovalReport check_removal(const AabbTree& bone, const TriangleMesh& guide, const Vec3& direction, double distance,
+                            SweepStart start) {
+  return SweepTest(bone)(guide, direction, distance, start);
+}
+
+RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direction, double distance,
+                                    SweepStart start) const {
+  const double norm = direction.norm();
+  if (!std::isfinite(norm) || !(norm > 0.0))
+    throw InvalidInput("removal check: the direction must be a non-zero vector");
+  if (!std::isfinite(distance) || !(distance > 0.0))
+    throw InvalidInput("removal check: the distance must be > 0 mm, got " + detail::number(distance));
+  const Vec3 d = direction / norm; // onto the bone
+  const Vec3 w = -d;               // off the bone
+  const double L = distance;
+  const AabbTree& bone = bone_;
+  const TriangleMesh& bmesh = bone.mesh();
+  const BoundingBox gbox = bounding_box(guide);
+  RemovalReport report;
+  report.distance = L;
+  report.blocked_faces.assign(guide.face_count(), 0);
+  if (guide.empty() || bone.empty()) return report;
+  // The bone shrunk by `lift` along its vertex normals (see removal.h).
+  const double lift = lift_;
+  const std::vector<Vec3>& b_at = shrunk_;
+  std::vector<Vec3> g_at = guide.positions;
+  {
+    // The guide starts a lift along its way off; a part of the bone's surface is also raised off it.
+    const std::vector<Vec3> gn = start == SweepStart::raised ? vertex_normals(guide) : std::vector<Vec3>{};
+    for (std::size_t i = 0; i < g_at.size(); ++i)
+      g_at[i] += lift * w + (gn.empty() ? Vec3::Zero() : Vec3(lift * gn[i]));
+  }
+  auto bone_corner = [&](Index f, int k) -> const Vec3& { return b_at[bmesh.triangles[f][k]]; };
+
+  std::vector<Index> first_face(guide.vertex_count(), kInvalidIndex);
+  for (Index f = 0; f < guide.face_count(); ++f)
+    for (Index v : guide.triangles[f]) first_face[v] = f;
+
+  Collector collector;
+  // 1. Guide vertices along -d against the bone.
+  detail::parallel_for(guide.vertex_count(), 512, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      if (first_face[i] == kInvalidIndex) continue;
+      const Vec3 &p = g_at[i], q = p + L * w;
+      const bool hit = bone.any_along(p, w, L, 2.0 * lift, [&](Index f) {
+        return crosses(p, q, bone_corner(f, 0), bone_corner(f, 1), bone_corner(f, 2));
+      });
+      if (hit) collector.add({guide.positions[i], first_face[i]});
+    }
+  });
+  // 2. Bone vertices near the guide along +d against the guide.
+  const AabbTree guide_tree(guide);
+  BoundingBox reach = gbox;
+  reach.extend(gbox.min - L * d);
+  reach.extend(gbox.max - L * d);
+  std::vector<Index> near;
+  reach.min.array() -= 1.0;
+  reach.max.array() += 1.0;
+  bone.for_each_in_box(reach, [&](Index f) {
+    for (Index v : bmesh.triangles[f]) near.push_back(v);
+  });
+  std::sort(near.begin(), near.end());
+  near.erase(std::unique(near.begin(), near.end()), near.end());
+  // A bone vertex the guide copies (zero clearance, a rim through a bone vertex) touches the guide
+  // there; the faces and edges around it are tested by the other two families.
+  {
+    std::vector<Vec3> at = guide.positions;
+    auto less = [](const Vec3& a, const Vec3& b) {
+      return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+    };
+    std::sort(at.begin(), at.end(), less);
+    std::erase_if(near, [&](Index v) { return std::binary_search(at.begin(), at.end(), bmesh.positions[v], less); });
+  }
+  detail::parallel_for(near.size(), 512, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const Vec3 &p = b_at[near[i]], q = p + L * d;
+      Index face = kInvalidIndex;
+      guide_tree.any_along(p, d, L, 2.0 * lift, [&](Index f) {
+        const Triangle& t = guide.triangles[f];
+        if (!crosses(p, q, g_at[t[0]], g_at[t[1]], g_at[t[2]])) return false;
+        face = f;
+        return true;
+      });
+      if (face != kInvalidIndex) {
+        const Triangle& t = guide.triangles[face];
+        const auto h = ray_triangle(p, d, g_at[t[0]], g_at[t[1]], g_at[t[2]], 1e-6);
+        collector.add({h ? Vec3(p + h->t * d) : p, face});
+      }
+    }
+  });
+  // 3. Bone edges against the parallelograms guide edges sweep (each edge once, from its first face).
+  detail::parallel_for(guide.face_count(), 256, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f) {
+      const Triangle& t = guide.triangles[f];
+      for (int k = 0; k < 3; ++k) {
+        const Index i0 = t[k], i1 = t[(k + 1) % 3];
+        if (i0 > i1) continue; // the other face of a closed mesh's edge takes it
+        const Vec3 &g0 = g_at[i0], &g1 = g_at[i1];
+        const Vec3 h0 = g0 + L * w, h1 = g1 + L * w;
+        const Vec3 mid = 0.5 * (g0 + g1);
+        Vec3 place = mid;
+        const bool hit = bone.any_along(mid, w, L, 0.5 * (g1 - g0).norm() + 2.0 * lift, [&](Index bf) {
+          for (int e = 0; e < 3; ++e) {
+            // A bone edge from a vertex this guide edge copies meets its parallelogram only there.
+            const Vec3 &o0 = bmesh.positions[bmesh.triangles[bf][e]],
+                       &o1 = bmesh.positions[bmesh.triangles[bf][(e + 1) % 3]];
+            if (o0 == guide.positions[i0] || o0 == guide.positions[i1] || o1 == guide.positions[i0] ||
+                o1 == guide.positions[i1])
+              continue;
+            const Vec3 &b0 = bone_corner(bf, e), &b1 = bone_corner(bf, (e + 1) % 3);
+            if (!crosses(b0, b1, g0, g1, h1) && !crosses(b0, b1, g0, h1, h0)) continue;
+            // Where on the guide edge: the crossing moved back along the path.
+            const Vec3 n = (g1 - g0).cross(w);
+            const double den = n.dot(b1 - b0);
+            const Vec3 x = den != 0.0 ? Vec3(b0 + (n.dot(g0 - b0) / den) * (b1 - b0)) : b0;
+            place = x - (x - g0).dot(w) * w;
+            return true;
+          }
+          return false;
+        });
+        if (hit) collector.add({place, static_cast<Index>(f)});
+      }
+    }
+  });
+
+  std::vector<Hit> hits = collector.take();
+  // The same order whatever the threads did.
+  std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) {
+    return std::lexicographical_compare(a.place.data(), a.place.data() + 3, b.place.data(), b.place.data() + 3);
+  });
+  report.blocked_features = hits.size();
+  report.removable = hits.empty();
+  for (const Hit& h : hits) {
+    report.blocked_faces[h.face] = 1;
+    const bool far = std::all_of(report.blocking.begin(), report.blocking.end(),
+                                 [&](const Vec3& p) { return (p - h.place).norm() > 2.0; });
+    if (far && report.blocking.size() < 20) report.blocking.push_back(h.place);
+  }
+  return report;
+}
+
+} // namespace st

@@ -1,0 +1,185 @@
+// Undercut block-out and the removal check (issue 12) on a tooth standing on a plate: a post with a
+// bulge (the crown's height of contour) as a surface of revolution, whose undercut, best direction
+// and blocked-out volume are known in closed form.
+
+#include "helpers.h"
+
+#include "st/core/aabb_tree.h"
+#include "st/design/insertion.h"
+#include "st/design/template_design.h"
+#include "st/validate/removal.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace st {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// The tooth's profile: radius at height z on the post (0 <= z <= 8): 3 mm, with a bulge of 1 mm
+/// between z = 3 and z = 7, widest (4 mm) at z = 5.
+double tooth_radius(double z) { return z > 3.0 && z < 7.0 ? 3.0 + std::sin(kPi * (z - 3.0) / 4.0) : 3.0; }
+
+/// A surface of revolution about the z axis through the profile points (r, z), from the outer rim
+/// inwards (the last point on the axis), `segments` around; normals away from the solid under it.
+TriangleMesh revolve(const std::vector<std::array<double, 2>>& profile, int segments) {
+  TriangleMesh m;
+  const int n = static_cast<int>(profile.size());
+  for (int i = 0; i + 1 < n; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double a = 2.0 * kPi * j / segments;
+      m.positions.emplace_back(profile[i][0] * std::cos(a), profile[i][0] * std::sin(a), profile[i][1]);
+    }
+  m.positions.emplace_back(0.0, 0.0, profile.back()[1]);
+  // As a mesh file holds it (float32): a guide at zero clearance then copies the bone exactly.
+  for (Vec3& p : m.positions) p = p.cast<float>().cast<double>();
+  auto id = [segments](int i, int j) { return static_cast<Index>(i * segments + (j % segments)); };
+  const Index centre = m.vertex_count() - 1;
+  for (int i = 0; i + 1 < n; ++i)
+    for (int j = 0; j < segments; ++j) {
+      if (i + 2 == n) {
+        m.triangles.push_back({id(i, j), id(i, j + 1), centre});
+        continue;
+      }
+      m.triangles.push_back({id(i, j), id(i, j + 1), id(i + 1, j)});
+      m.triangles.push_back({id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)});
+    }
+  return m;
+}
+
+/// The plate (z = 0, radius 15 down to the post), the post and its bulge, the flat top at z = 8.
+/// `plate_step`: the plate's ring spacing (0.25 puts a ring exactly under the bulge's widest ring).
+TriangleMesh tooth_on_plate(double plate_step, int segments = 256) {
+  std::vector<std::array<double, 2>> profile;
+  for (double r = 15.0; r > 3.0 + 1e-9; r -= plate_step) profile.push_back({r, 0.0});
+  for (int k = 0; k <= 80; ++k) {
+    const double z = 0.1 * k;
+    profile.push_back({tooth_radius(z), z});
+  }
+  for (int k = 1; k <= 12; ++k) profile.push_back({3.0 - 0.25 * k, 8.0});
+  return revolve(profile, segments);
+}
+
+/// Hidden area along -z, in closed form: the bulge's lower half, the post under it (a wall in its
+/// shadow) and the ring of plate the bulge shades.
+double tooth_undercut_area() {
+  double bulge = 0.0;
+  const int steps = 20000;
+  for (int k = 0; k < steps; ++k) {
+    const double z = 3.0 + 2.0 * (k + 0.5) / steps;
+    const double slope = kPi / 4.0 * std::cos(kPi * (z - 3.0) / 4.0);
+    bulge += 2.0 * kPi * tooth_radius(z) * std::sqrt(1.0 + slope * slope) * (2.0 / steps);
+  }
+  return bulge + 2.0 * kPi * 3.0 * 3.0 + kPi * (16.0 - 9.0);
+}
+
+/// The volume under the bulge's widest ring down to the plate, outside the tooth.
+double tooth_cavity_volume() {
+  double v = 0.0;
+  const int steps = 20000;
+  for (int k = 0; k < steps; ++k) {
+    const double z = 5.0 * (k + 0.5) / steps;
+    const double r = tooth_radius(z);
+    v += kPi * (16.0 - r * r) * (5.0 / steps);
+  }
+  return v;
+}
+
+/// The template over the tooth, its border a circle of radius 10 on the plate.
+TemplateOptions tooth_template(bool block_out) {
+  TemplateOptions o;
+  for (int k = 0; k < 12; ++k) {
+    const double a = 2.0 * kPi * (k + 0.5) / 12.0;
+    o.boundary_points.emplace_back(10.0 * std::cos(a), 10.0 * std::sin(a), 0.0);
+  }
+  o.inside = Vec3(0.0, 0.0, 8.0);
+  o.thickness = 2.0;
+  o.analyse_insertion = true;
+  o.insertion = Vec3(0.0, 0.0, -1.0);
+  o.block_out = block_out;
+  return o;
+}
+
+TEST(BlockOut, UndercutOfAToothIsItsClosedFormArea) {
+  const TriangleMesh bone = tooth_on_plate(0.3);
+  const AabbTree tree(bone);
+  TriangleMesh region;
+  region.positions = bone.positions;
+  for (const Triangle& t : bone.triangles)
+    if ((bone.positions[t[0]] + bone.positions[t[1]] + bone.positions[t[2]]).head<2>().norm() / 3.0 < 10.0)
+      region.triangles.push_back(t);
+  const Undercut u = undercut(tree, region, Vec3(0, 0, -1), 0.05);
+  const double expected = tooth_undercut_area();
+  EXPECT_NEAR(u.hidden_mm2, expected, 0.02 * expected);
+}
+
+TEST(BlockOut, ToothGuideComesOffOnlyWhenBlockedOut) {
+  const TriangleMesh bone = tooth_on_plate(0.3, 128);
+  // As the bone gives it, the guide wraps under the bulge and cannot come off.
+  const TemplateResult copy = design_template(bone, tooth_template(false));
+  test::expect_valid_solid(copy.shell);
+  ASSERT_TRUE(copy.insertion.removal_checked);
+  EXPECT_FALSE(copy.insertion.removable);
+  EXPECT_FALSE(copy.insertion.blocking.empty());
+  // Blocked out, it lifts 20 mm without touching the bone, and fills the space under the bulge.
+  const TemplateResult guide = design_template(bone, tooth_template(true));
+  test::expect_valid_solid(guide.shell);
+  const InsertionReport& ins = guide.insertion;
+  EXPECT_TRUE(ins.blocked_out);
+  EXPECT_TRUE(ins.removable) << ins.blocking.size() << " blocking places, first "
+                             << (ins.blocking.empty() ? Vec3::Zero() : ins.blocking.front()).transpose();
+  EXPECT_EQ(ins.unfilled.size(), 0u);
+  EXPECT_EQ(ins.removal_distance, 20.0);
+  // The fill leans from the widest ring (r = 4) to the first plate ring beyond it (r = 4.2).
+  const double cavity = tooth_cavity_volume();
+  EXPECT_GT(ins.blocked_out_volume_mm3, cavity);
+  EXPECT_LT(ins.blocked_out_volume_mm3, cavity + kPi * (4.2 * 4.2 - 16.0) * 5.0);
+  // The guide keeps the bone's own surface wherever it can reach it: all but the hidden area and the
+  // plate ring the fill leans over.
+  EXPECT_GT(ins.contact_area_mm2, ins.region_area_mm2 - tooth_undercut_area() - kPi * (4.2 * 4.2 - 16.0) - 0.5);
+}
+
+TEST(BlockOut, FillIsAWallWhereThePlateRingLiesExactlyUnderTheBulge) {
+  // Plate rings every 0.25 mm: one lies exactly under the widest ring (r = 4, same angles), so the
+  // hole left by the hidden faces has no area seen along the axis: the fill is a wall along it.
+  const TriangleMesh bone = tooth_on_plate(0.25, 128);
+  const TemplateResult guide = design_template(bone, tooth_template(true));
+  test::expect_valid_solid(guide.shell);
+  EXPECT_TRUE(guide.insertion.removable);
+  EXPECT_EQ(guide.insertion.unfilled.size(), 0u);
+  EXPECT_NEAR(guide.insertion.blocked_out_volume_mm3, tooth_cavity_volume(), 0.02 * tooth_cavity_volume());
+}
+
+TEST(Removal, APlateLiftsOffAPlaneAndCatchesOnALedge) {
+  // A 10 x 10 x 2 box resting on a plane comes off upwards; with a ledge 1 mm above its top, it
+  // meets the ledge; moved off sideways (along -x, the ledge behind it) it comes off again.
+  const TriangleMesh plane = test::make_height_field(-20, 20, -20, 20, 40, [](double, double) { return 0.0; });
+  TriangleMesh box;
+  for (int k = 0; k < 8; ++k) box.positions.emplace_back(k & 1 ? 5.0 : -5.0, k & 2 ? 5.0 : -5.0, k & 4 ? 2.0 : 0.0);
+  box.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                   {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  test::expect_valid_solid(box);
+  const AabbTree free_tree(plane);
+  EXPECT_TRUE(check_removal(free_tree, box, Vec3(0, 0, -1)).removable);
+  TriangleMesh with_ledge = plane;
+  const TriangleMesh ledge = test::make_height_field(2, 12, -3, 3, 4, [](double, double) { return 3.0; });
+  const Index n = with_ledge.vertex_count();
+  with_ledge.positions.insert(with_ledge.positions.end(), ledge.positions.begin(), ledge.positions.end());
+  for (const Triangle& t : ledge.triangles) with_ledge.triangles.push_back({t[0] + n, t[2] + n, t[1] + n});
+  const AabbTree ledge_tree(with_ledge);
+  const RemovalReport up = check_removal(ledge_tree, box, Vec3(0, 0, -1));
+  EXPECT_FALSE(up.removable);
+  ASSERT_FALSE(up.blocking.empty());
+  EXPECT_GT(up.blocking.front().x(), 1.9);
+  // Sideways the box's bottom slides on the plane (touching, not crossing): along -x it leaves the
+  // ledge, along +x it passes under it (the ledge is 1 mm above the box's top).
+  EXPECT_TRUE(check_removal(ledge_tree, box, Vec3(1, 0, 0)).removable);
+  EXPECT_TRUE(check_removal(ledge_tree, box, Vec3(-1, 0, 0)).removable);
+}
+
+} // namespace
+} // namespace st
