@@ -7,6 +7,8 @@
 #include "st/core/aabb_tree.h"
 #include "st/design/insertion.h"
 #include "st/design/template_design.h"
+#include "st/io/case_file.h"
+#include "st/io/mesh_io.h"
 #include "st/validate/removal.h"
 
 #include <gtest/gtest.h>
@@ -152,6 +154,29 @@ TEST(BlockOut, FillIsAWallWhereThePlateRingLiesExactlyUnderTheBulge) {
   EXPECT_TRUE(guide.insertion.removable);
   EXPECT_EQ(guide.insertion.unfilled.size(), 0u);
   EXPECT_NEAR(guide.insertion.blocked_out_volume_mm3, tooth_cavity_volume(), 0.02 * tooth_cavity_volume());
+}
+
+TEST(BlockOut, MaxillaGuideOverTheTeethComesOffAlongAuto) {
+  // The labial surface of the anterior teeth and alveolar bone (a real CT scan): along the
+  // least-undercut direction the hidden zones are filled, the guide comes off, and it keeps touching
+  // the bone over at least 60 % of its inner surface.
+  const CaseFile c = read_case(test::examples_dir() + "/cases/maxilla-labial-auto.json");
+  const TriangleMesh bone = read_mesh(c.bone);
+  const TemplateOptions o = template_options(c);
+  ASSERT_TRUE(o.block_out);
+  const TemplateResult r = design_template(bone, o);
+  test::expect_valid_solid(r.shell);
+  const InsertionReport& ins = r.insertion;
+  EXPECT_TRUE(ins.automatic);
+  EXPECT_GT(ins.undercut_area_mm2, 0.0);
+  EXPECT_TRUE(ins.blocked_out);
+  EXPECT_TRUE(ins.removable);
+  EXPECT_GE(ins.contact_area_mm2, 0.6 * ins.inner_area_mm2);
+  // Without the block-out, the same guide cannot come off.
+  TemplateOptions copy = o;
+  copy.block_out = false;
+  copy.insertion = ins.direction;
+  EXPECT_FALSE(design_template(bone, copy).insertion.removable);
 }
 
 TEST(Removal, APlateLiftsOffAPlaneAndCatchesOnALedge) {

@@ -160,6 +160,13 @@ TEST_P(ExampleCase, DesignsAValidTemplate) {
   // rim vertices closer than kMinCutDistance_mm are merged (cut.h).
   EXPECT_LT(r.fit.rim_to_curve.max,
             c.clearance + std::max(tol::kMinCutDistance_mm, 2.0 * tol::kEdgeCutMargin) + tol::kMinCutDistance_mm);
+  // A case that names its insertion direction gets a guide that comes off along it (block-out).
+  if (c.insertion || c.insertion_auto) {
+    EXPECT_TRUE(r.insertion.removal_checked);
+    EXPECT_TRUE(r.insertion.removable)
+        << "meets the bone near "
+        << (r.insertion.blocking.empty() ? Vec3::Zero() : r.insertion.blocking[0]).transpose();
+  }
   write_stl(r.shell, output_dir() + "/" + c.name + ".stl");
 }
 

@@ -256,30 +256,35 @@ BlockOutResult block_out(const AabbTree& bone, const TriangleMesh& region, const
     out.filled.resize(out.triangles.size(), 1);
   };
   assemble();
-  if (!trimmed_zones.empty()) {
-    // The trimmed region must keep one simple border loop; else the zones at the rim stay as they were.
+  // Each zone cut off must leave the region one simple border loop; one that would not (it splits
+  // off a piece, or pinches the border) stays as it was. Largest zones first.
+  std::sort(trimmed_zones.begin(), trimmed_zones.end(),
+            [&](std::size_t a, std::size_t b) { return zone_faces[a].size() > zone_faces[b].size(); });
+  for (std::size_t z : trimmed_zones)
+    for (Index f : zone_faces[z]) replaced[f] = 0;
+  for (std::size_t z : trimmed_zones) {
+    for (Index f : zone_faces[z]) replaced[f] = 1;
+    assemble();
     TriangleMesh trimmed{region.positions, out.triangles};
     bool one_loop = false;
     try {
       one_loop = border_loops(trimmed, MeshTopology(trimmed).all_opposites()).size() == 1;
     } catch (const GeometryError&) {
     }
-    for (std::size_t z : trimmed_zones) {
-      if (one_loop) {
-        ++out.trimmed_zones;
-        for (Index f : zone_faces[z]) {
-          const Triangle& t = region.triangles[f];
-          const Vec3 &a = region.positions[t[0]], &b = region.positions[t[1]], &c = region.positions[t[2]];
-          out.trimmed_area_mm2 += 0.5 * (b - a).cross(c - a).norm();
-        }
-      } else {
-        out.unfilled.push_back(region.positions[region.triangles[zone_faces[z].front()][0]]);
-        for (Index f : zone_faces[z]) replaced[f] = 0;
-      }
+    if (!one_loop) {
+      for (Index f : zone_faces[z]) replaced[f] = 0;
+      out.unfilled.push_back(region.positions[region.triangles[zone_faces[z].front()][0]]);
+      continue;
     }
-    if (!one_loop) assemble();
-    out.rim_changed = one_loop;
+    ++out.trimmed_zones;
+    out.rim_changed = true;
+    for (Index f : zone_faces[z]) {
+      const Triangle& t = region.triangles[f];
+      const Vec3 &a = region.positions[t[0]], &b = region.positions[t[1]], &c = region.positions[t[2]];
+      out.trimmed_area_mm2 += 0.5 * (b - a).cross(c - a).norm();
+    }
   }
+  assemble();
   return out;
 }
 
