@@ -305,6 +305,37 @@ TEST(GuideSeat, ASleeveStandingOnBoneBesideTheTemplateIsRefusedByName) {
   }
 }
 
+TEST(GuideSeat, AVertebraLaminaScrewSleeveIsTrimmedByTheBoneNotRefused) {
+  // The plan: a posterior screw near the edge of the lamina, 10 degrees off the surface
+  // normal, outer radius 2.5, offset 3, length 10. The lamina rises to the sleeve's top under part of
+  // it (was refused: "cannot be seated clear of the bone"); the bore line is free, so the sleeve is
+  // built on its planned axis, notched where the bone stands.
+  const CaseFile c = read_case(test::examples_dir() + "/cases/vertebra-pedicle.json");
+  const TriangleMesh bone = read_mesh(c.bone);
+  TemplateOptions o = template_options(c);
+  o.analyse_insertion = false;
+  TubeSpec t;
+  t.name = "lamina";
+  t.entry = Vec3(-37.098, -0.573, 10.388);
+  t.direction = Vec3(0.4464, 0.2531, -0.8583).normalized();
+  t.inner_radius = 1.6;
+  t.outer_radius = 2.5;
+  t.length = 10.0;
+  t.offset = 3.0;
+  o.tubes = {t};
+  const TemplateResult r = design_template(bone, o);
+  test::expect_valid_solid(r.shell);
+  EXPECT_EQ(r.solid.components, 1u);
+  ASSERT_EQ(r.tubes.size(), 1u);
+  EXPECT_TRUE(r.tubes[0].trimmed_by_bone);
+  // The bore is open along the planned axis from above the sleeve to the bone, and no sleeve
+  // vertex lies in the bone.
+  const GuideInspection g = inspect_guide(r.shell, bone, o.tubes, c.clearance);
+  ASSERT_EQ(g.bores.size(), 1u);
+  EXPECT_TRUE(g.bores[0].open) << g.bores[0].margin;
+  EXPECT_EQ(g.vertices_in_bone, 0u) << g.summary();
+}
+
 TEST_F(Bump, BadTubeNumbersAreRefusedByName) {
   auto refused = [&](TubeSpec t, const std::string& key) {
     TemplateOptions o = options();

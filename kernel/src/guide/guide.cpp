@@ -177,29 +177,69 @@ std::optional<double> highest_bone(const AabbTree& bone, const TubeSpec& tube, c
   return highest;
 }
 
-// Seats a column whose foot (its first `foot_vertices` vertices) lies flat at height `floor`: every
-// foot vertex rises to `above` over the highest bone over the foot triangles around it (so each foot
-// triangle, whose corners all stand that high over the bone under it, stays clear of it), never by
-// steps. Bone that reaches the sleeve's top under it is a planning conflict: an error naming the
-// tube and the place.
-void seat_foot(TriangleMesh& column, Index foot_vertices, const TubeSpec& tube, double floor, double ceiling,
-               double above, const AabbTree& bone) {
-  if (bone.empty()) return;
+// Per foot vertex of `mesh` (its first `foot_vertices` vertices, lying at height `floor`): the height
+// it must stand at, `above` over the highest bone (up to `ceiling`) over the foot triangles around
+// it, or -infinity where there is none. `shift` moves the foot triangles along the axis to `floor`
+// first (a foot made at another height).
+std::vector<double> foot_needs(const TriangleMesh& mesh, Index foot_vertices, const TubeSpec& tube, double floor,
+                               double ceiling, double above, const AabbTree& bone, double shift = 0.0) {
   const Vec3 axis = tube_axis(tube);
   std::vector<double> need(foot_vertices, -std::numeric_limits<double>::infinity());
-  for (const Triangle& t : column.triangles) {
+  for (const Triangle& t : mesh.triangles) {
     if (t[0] >= foot_vertices || t[1] >= foot_vertices || t[2] >= foot_vertices) continue;
-    const auto h = highest_bone(bone, tube, {column.positions[t[0]], column.positions[t[1]], column.positions[t[2]]},
-                                floor, ceiling);
+    const auto h = highest_bone(
+        bone, tube,
+        {mesh.positions[t[0]] + shift * axis, mesh.positions[t[1]] + shift * axis, mesh.positions[t[2]] + shift * axis},
+        floor, ceiling);
     if (!h) continue;
     for (Index v : t) need[v] = std::max(need[v], *h + above);
   }
-  for (Index v = 0; v < foot_vertices; ++v) {
-    if (!(need[v] > floor)) continue;
-    if (need[v] > ceiling - 0.01 * tube.length)
-      throw conflict(tube, column.positions[v] + (need[v] - floor) * axis, "sleeve stands on bone as high as its top");
-    column.positions[v] += (need[v] - floor) * axis;
-  }
+  return need;
+}
+
+// Seats a column whose foot (its first `foot_vertices` vertices) lies flat at height `floor`: every
+// foot vertex rises to `above` over the highest bone over the foot triangles around it (so each foot
+// triangle, whose corners all stand that high over the bone under it, stays clear of it), never by
+// steps. False (the column left as it was) where bone reaches the sleeve's top under it: the column
+// is then trimmed by the bone instead (trimmed()).
+bool seat_foot(TriangleMesh& column, Index foot_vertices, const TubeSpec& tube, double floor, double ceiling,
+               double above, const AabbTree& bone) {
+  if (bone.empty()) return true;
+  const Vec3 axis = tube_axis(tube);
+  const std::vector<double> need = foot_needs(column, foot_vertices, tube, floor, ceiling, above, bone);
+  for (Index v = 0; v < foot_vertices; ++v)
+    if (need[v] > ceiling - 0.01 * tube.length) return false;
+  for (Index v = 0; v < foot_vertices; ++v)
+    if (need[v] > floor) column.positions[v] += (need[v] - floor) * axis;
+  return true;
+}
+
+// A column under which the bone rises to the sleeve's top, trimmed by the bone: minus a block over a
+// disk a little wider than the sleeve, from below the column up to a height field that stands
+// `above` over the highest bone over each of its triangles (the same exact clipping as the foot),
+// cut off above the sleeve's top. The sleeve keeps its axis; where the bone stands, it is notched.
+TriangleMesh trimmed(const TriangleMesh& column, const TubeSpec& tube, double floor, double ceiling, double above,
+                     double tolerance, const AabbTree& bone, int& perturbed) {
+  const double radius = tube.outer_radius + std::max(0.5, 0.2 * tube.outer_radius);
+  const double top = ceiling + 1.0, bottom = floor - 2.0;
+  // A cylinder upside down: its foot grid is the block's top, at `top` until lowered onto the bone.
+  Cylinder c;
+  c.base = tube_point(tube, top);
+  c.axis = -tube_axis(tube);
+  c.radius = radius;
+  c.height = top - bottom;
+  TriangleMesh block = footed_cylinder_mesh(c, tolerance, [](const Vec3&) { return 0.0; });
+  const Index ring = static_cast<Index>(circle_segments(radius, tolerance));
+  const Index foot = block.vertex_count() - ring - 1;
+  const std::vector<double> need = foot_needs(block, foot, tube, bottom, top, above, bone, -(top - bottom));
+  for (Index v = 0; v < foot; ++v)
+    block.positions[v] += (std::clamp(need[v], bottom + 1.0, top) - top) * tube_axis(tube);
+  BooleanOptions o;
+  o.check_operands = false;
+  const BooleanResult r = mesh_boolean(column, rounded(std::move(block)), BooleanOp::Difference, o);
+  perturbed += r.attempts > 1;
+  if (r.mesh.empty()) throw conflict(tube, tube_point(tube, ceiling), "sleeve stands wholly in the bone");
+  return r.mesh;
 }
 
 // What seat_foot makes sure of, checked exactly on the column as it will be written (float): no
@@ -249,11 +289,11 @@ void check_bore_line(const TubeSpec& tube, double top, const AabbTree& bone) {
                    "bore runs into the bone above the entry (between the sleeve's top and the entry)");
 }
 
-// After the union, every column must be joined to the template: a part made of sleeve faces only
-// (a column whose foot rose over bone beside the template, clear of it) is a conflict named by the
-// tube nearest it.
-void check_joined(const TriangleMesh& mesh, const std::vector<std::uint8_t>& from_tube,
-                  const std::vector<TubeSpec>& tubes) {
+// After the union, parts made of sleeve faces only (a column piece the bone cut off from the rest,
+// or a whole column whose foot rose over bone beside the template, clear of it) are dropped; a tube
+// left with no sleeve face joined to the template is a conflict named by the tube.
+void drop_unjoined(TriangleMesh& mesh, std::vector<std::uint8_t>& from_tube, const std::vector<TubeSpec>& tubes,
+                   const std::vector<TubePlacement>& placements) {
   UnionFind sets(mesh.vertex_count());
   for (const Triangle& t : mesh.triangles) {
     sets.join(t[0], t[1]);
@@ -262,21 +302,31 @@ void check_joined(const TriangleMesh& mesh, const std::vector<std::uint8_t>& fro
   std::vector<std::uint8_t> joined(mesh.vertex_count(), 0);
   for (Index f = 0; f < mesh.face_count(); ++f)
     if (!from_tube[f]) joined[sets.find(mesh.triangles[f][0])] = 1;
+  std::vector<Index> kept;
+  std::optional<Vec3> dropped;
   for (Index f = 0; f < mesh.face_count(); ++f) {
-    const Vec3& p = mesh.positions[mesh.triangles[f][0]];
-    if (joined[sets.find(mesh.triangles[f][0])]) continue;
-    std::size_t nearest = 0;
-    double best = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < tubes.size(); ++i) {
-      const Vec3 axis = tube_axis(tubes[i]), q = p - tubes[i].entry;
-      const double d = (q - q.dot(axis) * axis).norm();
-      if (d < best) {
-        best = d;
-        nearest = i;
-      }
+    if (joined[sets.find(mesh.triangles[f][0])]) kept.push_back(f);
+    else if (!dropped) dropped = mesh.positions[mesh.triangles[f][0]];
+  }
+  if (!dropped) return;
+  std::vector<std::uint8_t> tube_faces;
+  for (Index f : kept) tube_faces.push_back(from_tube[f]);
+  mesh = submesh(mesh, kept);
+  from_tube = std::move(tube_faces);
+  for (std::size_t i = 0; i < tubes.size(); ++i) {
+    if (placements[i].sleeve_inside_template) continue;
+    const Vec3 axis = tube_axis(tubes[i]);
+    bool has_sleeve = false;
+    for (Index f = 0; f < mesh.face_count() && !has_sleeve; ++f) {
+      if (!from_tube[f]) continue;
+      const Vec3 q = mesh.positions[mesh.triangles[f][0]] - tubes[i].entry;
+      const double h = q.dot(axis);
+      has_sleeve = (q - h * axis).norm() <= tubes[i].outer_radius + 1e-3 && h > placements[i].column_bottom - 1e-3 &&
+                   h < placements[i].sleeve_top + 1e-3;
     }
-    throw conflict(tubes[nearest], p,
-                   "sleeve stands on bone beside the template, clear of it (it would not be joined)");
+    if (!has_sleeve)
+      throw conflict(tubes[i], tube_point(tubes[i], placements[i].sleeve_top),
+                     "sleeve stands on bone beside the template, clear of it (it would not be joined)");
   }
 }
 
@@ -320,7 +370,7 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
       BoundingBox b;
       b.extend(tube_point(tubes[i], result.tubes[i].column_bottom - 1.0));
       b.extend(tube_point(tubes[i], result.tubes[i].sleeve_top + options.bore_margin));
-      boxes.push_back(b.inflated(tubes[i].outer_radius));
+      boxes.push_back(b.inflated(tubes[i].outer_radius + std::max(0.5, 0.2 * tubes[i].outer_radius)));
       all.extend(boxes.back());
     }
     for (Index f = 0; f < bone.face_count(); ++f) {
@@ -346,9 +396,15 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
     const Cylinder cylinder = tube_cylinder(tubes[i], tubes[i].outer_radius, p.column_bottom, p.sleeve_top);
     TriangleMesh column = footed_cylinder_mesh(cylinder, options.chordal_tolerance, [](const Vec3&) { return 0.0; });
     const Index ring = static_cast<Index>(circle_segments(tubes[i].outer_radius, options.chordal_tolerance));
-    seat_foot(column, column.vertex_count() - ring - 1, tubes[i], p.column_bottom, p.sleeve_top,
-              options.clearance + p.foot_lift, bone_tree);
-    column = rounded(std::move(column));
+    if (seat_foot(column, column.vertex_count() - ring - 1, tubes[i], p.column_bottom, p.sleeve_top,
+                  options.clearance + p.foot_lift, bone_tree))
+      column = rounded(std::move(column));
+    else {
+      result.tubes[i].trimmed_by_bone = true;
+      column =
+          trimmed(rounded(std::move(column)), tubes[i], p.column_bottom, p.sleeve_top, options.clearance + p.foot_lift,
+                  options.chordal_tolerance, bone_tree, result.perturbed_operations);
+    }
     check_clear_of_bone(column, tubes[i], bone_tree);
     check_bore_line(tubes[i], p.sleeve_top, bone_tree);
     unite(columns, column);
@@ -362,7 +418,7 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
     note(merged);
     result.mesh = std::move(merged.mesh);
     result.from_tube = std::move(merged.from_b);
-    check_joined(result.mesh, result.from_tube, tubes);
+    drop_unjoined(result.mesh, result.from_tube, tubes, result.tubes);
   }
   result.union_seconds = seconds_since(t0);
   result.columns = std::move(columns);

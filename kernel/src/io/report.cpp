@@ -29,7 +29,8 @@ nlohmann::json to_json(const TubePlacement& p) {
           {"column_bottom", p.column_bottom},
           {"template", {p.template_bottom, p.template_top}},
           {"bore", {p.bore_bottom, p.bore_top}},
-          {"inside_template", p.sleeve_inside_template}};
+          {"inside_template", p.sleeve_inside_template},
+          {"trimmed_by_bone", p.trimmed_by_bone}};
 }
 
 namespace {

@@ -9,8 +9,11 @@
 // inner surface inside a column is kept instead). A column's foot stands over the bone under it:
 // each foot vertex at least clearance + foot lift over the highest bone over the foot triangles
 // around it, that height taken exactly from the bone triangles clipped to the prism over each foot
-// triangle (so any plan whose sleeve clears the bone up to its top is built; bone as high as the
-// sleeve's top under it is a conflict named by the tube). Then the bores (inner radius,
+// triangle. Where bone rises to the sleeve's top under part of it, the column and sleeve are trimmed
+// instead: minus a block standing that high over the bone (the same exact clipping), and pieces the
+// bone cuts off from the template dropped; a plan is refused only for bone in the bore (two
+// crossings of the axis between the sleeve's top and the entry) or a sleeve left with nothing
+// joined to the template, by the tube's name. Then the bores (inner radius,
 // circumscribed so the drill always fits) are cut along each whole axis, from above the sleeve
 // through to the bone.
 
@@ -40,6 +43,7 @@ struct TubePlacement {
   double bore_bottom = 0.0;
   double bore_top = 0.0;
   bool sleeve_inside_template = false; ///< the whole sleeve lies inside the template's wall
+  bool trimmed_by_bone = false;        ///< bone rises to the sleeve's top beside the bore: the sleeve is notched
 };
 
 struct GuideResult {
