@@ -23,6 +23,19 @@
 namespace st {
 namespace {
 
+TubeSpec make_tube(const std::string& name, const Vec3& entry, const Vec3& direction, double inner, double outer,
+                   double length, double offset) {
+  TubeSpec t;
+  t.name = name;
+  t.entry = entry;
+  t.direction = direction.normalized();
+  t.inner_radius = inner;
+  t.outer_radius = outer;
+  t.length = length;
+  t.offset = offset;
+  return t;
+}
+
 // Generalised winding number: 1 inside a closed outward mesh, 0 outside.
 double winding_number(const TriangleMesh& mesh, const Vec3& p) {
   double sum = 0.0;
@@ -177,15 +190,7 @@ struct Bump : ::testing::Test {
   }
   static TubeSpec tube(const std::string& name, const Vec3& entry, const Vec3& direction, double offset = 2.0,
                        double length = 6.0) {
-    TubeSpec t;
-    t.name = name;
-    t.entry = entry;
-    t.direction = direction.normalized();
-    t.inner_radius = 1.0;
-    t.outer_radius = 2.2;
-    t.length = length;
-    t.offset = offset;
-    return t;
+    return make_tube(name, entry, direction, 1.0, 2.2, length, offset);
   }
 };
 
@@ -279,6 +284,11 @@ TEST(GuideSeat, ASleeveOverARidgeStandsOnItAndABoreThroughItIsRefused) {
   }
 }
 
+/// A sleeve of the catalogue's 2.5 mm size (inner 1.6, length 10) on the given axis.
+TubeSpec sleeve_25(const std::string& name, const Vec3& entry, const Vec3& direction, double offset) {
+  return make_tube(name, entry, direction, 1.6, 2.5, 10.0, offset);
+}
+
 TEST(GuideSeat, ASleeveStandingOnBoneBesideTheTemplateIsRefusedByName) {
   // Near the rim of the vertebra template, tilted over the lamina's edge: the foot rises over the
   // bone beside the template and the sleeve would float clear of it (was: a guide of two parts).
@@ -287,15 +297,8 @@ TEST(GuideSeat, ASleeveStandingOnBoneBesideTheTemplateIsRefusedByName) {
   TemplateOptions o = template_options(c);
   o.analyse_insertion = false;
   o.simplify_outer = true;
-  TubeSpec t;
-  t.name = "over the edge";
-  t.entry = Vec3(-38.92887010274268, -0.5916847006867371, 9.858299386787964);
-  t.direction = Vec3(-0.06028030874335921, 0.401625614554084, -0.9138178976753846).normalized();
-  t.inner_radius = 1.6;
-  t.outer_radius = 2.5;
-  t.length = 10.0;
-  t.offset = 1.0;
-  o.tubes = {t};
+  o.tubes = {sleeve_25("over the edge", Vec3(-38.92887010274268, -0.5916847006867371, 9.858299386787964),
+                       Vec3(-0.06028030874335921, 0.401625614554084, -0.9138178976753846), 1.0)};
   try {
     const TemplateResult r = design_template(bone, o);
     EXPECT_EQ(check_solid(r.shell).components, 1u) << "built, but not as one part";
@@ -314,15 +317,7 @@ TEST(GuideSeat, AVertebraLaminaScrewSleeveIsTrimmedByTheBoneNotRefused) {
   const TriangleMesh bone = read_mesh(c.bone);
   TemplateOptions o = template_options(c);
   o.analyse_insertion = false;
-  TubeSpec t;
-  t.name = "lamina";
-  t.entry = Vec3(-37.098, -0.573, 10.388);
-  t.direction = Vec3(0.4464, 0.2531, -0.8583).normalized();
-  t.inner_radius = 1.6;
-  t.outer_radius = 2.5;
-  t.length = 10.0;
-  t.offset = 3.0;
-  o.tubes = {t};
+  o.tubes = {sleeve_25("lamina", Vec3(-37.098, -0.573, 10.388), Vec3(0.4464, 0.2531, -0.8583), 3.0)};
   const TemplateResult r = design_template(bone, o);
   test::expect_valid_solid(r.shell);
   EXPECT_EQ(r.solid.components, 1u);
