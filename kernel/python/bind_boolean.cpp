@@ -2,6 +2,8 @@
 
 #include "st/boolean/boolean.h"
 #include "st/guide/inspect.h"
+#include "st/validate/removal.h"
+#include "st/core/aabb_tree.h"
 
 namespace py = pybind11;
 using namespace st;
@@ -75,4 +77,31 @@ void bind_boolean(py::module_& m) {
       "Inspects a finished guide on its bone: {solid, vertex_distance (per guide vertex, mm from the bone: the "
       "thickness map), vertices_in_bone, deepest_in_bone, seated_vertices, bores: [{name, margin, open}], passed, "
       "summary}; vertex_distance is negative behind the bone surface.");
+  m.def(
+      "check_removal",
+      [](const Points& vg, const Faces& fg, const Points& vb, const Faces& fb, const py::object& direction,
+         double distance) {
+        const TriangleMesh guide = to_mesh(vg, fg, "guide");
+        const TriangleMesh bone = to_mesh(vb, fb, "bone");
+        const std::optional<Vec3> given = to_optional_point(direction, "direction");
+        if (!given) throw InvalidInput("direction: expected [x, y, z], not None");
+        const Vec3 d = *given;
+        RemovalReport r;
+        {
+          py::gil_scoped_release release;
+          r = check_removal(AabbTree(bone), guide, d, distance);
+        }
+        py::dict out;
+        out["removable"] = r.removable;
+        out["distance"] = r.distance;
+        out["blocking"] = from_points(r.blocking);
+        out["blocked_faces"] =
+            py::array_t<std::uint8_t>(static_cast<py::ssize_t>(r.blocked_faces.size()), r.blocked_faces.data());
+        return out;
+      },
+      py::arg("guide_vertices"), py::arg("guide_triangles"), py::arg("bone_vertices"), py::arg("bone_triangles"),
+      py::arg("direction"), py::arg("distance") = 20.0,
+      "The removal check (st/validate/removal.h): moves the guide against `direction` (the insertion direction, "
+      "onto the bone) by up to `distance` mm. Returns {removable, distance, blocking ((n, 3) places on the guide "
+      "where it meets the bone, 2 mm apart, at most 20), blocked_faces (per guide face, 1 where it meets it)}.");
 }

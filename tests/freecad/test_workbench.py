@@ -68,3 +68,9 @@ def test_insertion_is_kept_by_cases_and_measured(run):
     assert ins["auto_case"] == "auto"
     assert "undercut" in ins["auto_status"]
     assert ins["auto_undercut"] >= 0.0
+    # The direction used is kept on the template, and Validate's removal check agrees with the design's.
+    assert abs(sum(c * c for c in ins["auto_used"]) - 1.0) < 1e-6
+    assert ins["inspect_removable"] == ins["auto_removable"]
+    # set_insertion (the "Insertion from view" command's call) makes the template use that direction.
+    assert ins["set_mode"] == "Direction"
+    assert ins["set_used"] == pytest.approx([0, 0, -1], abs=1e-9)

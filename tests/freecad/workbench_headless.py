@@ -93,4 +93,14 @@ auto_case = json.load(open(st.save_case(again, os.path.join(out, "auto.json"))))
 result["insertion"]["auto_case"] = auto_case["template"].get("insertion")
 result["insertion"]["auto_status"] = again.Shell.Status
 result["insertion"]["auto_undercut"] = again.Shell.UndercutArea.Value
+result["insertion"]["auto_removable"] = again.Shell.Removable
+result["insertion"]["auto_used"] = list(again.Shell.InsertionUsed)
+# Validate's inspection checks the finished guide comes off along that direction.
+removal = st.inspect(again)["removal"]
+result["insertion"]["inspect_removable"] = removal["removable"] if removal else None
+# A direction set by the API (as "Insertion from view" does) is the one used.
+st.set_insertion(again.Shell, (0, 0, -2))
+again.Document.recompute()
+result["insertion"]["set_mode"] = again.Shell.Insertion
+result["insertion"]["set_used"] = list(again.Shell.InsertionUsed)
 print("RESULT " + json.dumps(result))

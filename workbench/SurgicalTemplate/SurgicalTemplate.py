@@ -23,7 +23,7 @@ from stfunctions.presets import sleeve_presets, user_presets_path
 from stfunctions.query import find_guide, tree_of
 from stmake.case import export, load_case, save_case
 from stmake.drawing import make_drawing
-from stmake.objects import make_bone, make_boundary, make_final, make_guide, make_template, make_tube
+from stmake.objects import make_bone, make_boundary, make_final, make_guide, make_template, make_tube, set_insertion
 from stmake.plan import load_plan
 from stmake.step import Step as _Step  # noqa: F401  (scripts and tests group their changes in one undo step)
 

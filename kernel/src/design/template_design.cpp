@@ -439,6 +439,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     result.perturbed_operations = guide.perturbed_operations;
     result.max_perturbation = guide.max_perturbation;
     result.curve_tolerance = guide.curve_tolerance;
+    result.fragments_dropped = guide.fragments_dropped;
     result.from_tube = std::move(guide.from_tube);
     result.columns = std::move(guide.columns);
     result.bores = std::move(guide.bores);

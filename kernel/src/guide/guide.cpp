@@ -64,8 +64,10 @@ TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const Guide
   auto origin_of = [&](const Sample& s) -> Vec3 { // a Vec3, not an Eigen expression of temporaries
     return tube_point(tube, start) + s.radius * (std::cos(s.angle) * u + std::sin(s.angle) * v);
   };
-  const AabbTree tree(shell, faces_around(shell, tube, tube.outer_radius, start, start - reach));
+  const double above = 3.0 * tube.outer_radius + 20.0; // how far up a ray starting in the template looks
+  const AabbTree tree(shell, faces_around(shell, tube, tube.outer_radius, start + above, start - reach));
   std::vector<Sample> samples;
+  double roof = -std::numeric_limits<double>::infinity(); // the template's top over the bore, when above `start`
   constexpr int kAround = 16;
   for (double radius : {0.0, tube.inner_radius, tube.outer_radius})
     for (int k = 0; k < (radius == 0.0 ? 1 : kAround); ++k) {
@@ -76,9 +78,13 @@ TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const Guide
             s.enter = start - first->t;
             if (const auto second = tree.first_hit(origin_of(s), -axis, first->t + 1e-9, reach))
               s.exit = start - second->t;
-          } else { // the ray starts inside the template's wall
+          } else { // the ray starts inside the template's wall (the bore goes up to where it leaves it)
             s.enter = start;
             s.exit = start - first->t;
+            if (s.radius <= tube.inner_radius) {
+              const auto up = tree.first_hit(origin_of(s), axis, 0.0, above);
+              roof = std::max(roof, start + (up ? up->t : 0.0));
+            }
           }
         }
       samples.push_back(s);
@@ -96,6 +102,19 @@ TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const Guide
     highest_bottom = std::max(highest_bottom.value_or(-1e300), *s.exit);
     middle = std::min(middle.value_or(1e300), 0.5 * (*s.enter + *s.exit));
     if (s.radius <= tube.inner_radius) bore = std::min(bore.value_or(1e300), *s.exit);
+  }
+  // The drill's way: every layer of template the bore's rays meet down to an outer radius (and a bore
+  // radius and margin) below the entry is bored: a template wrapped around thin bone lies in the
+  // drill's path on the far side.
+  for (const Sample& s : samples) {
+    if (s.radius > tube.inner_radius || !s.exit || tree.empty()) continue;
+    double t = start - *s.exit;
+    while (const auto hit = tree.first_hit(origin_of(s), -axis, t + 1e-9, reach)) {
+      t = hit->t;
+      const double z = start - t;
+      if (z < -(tube.outer_radius + tube.inner_radius + options.bore_margin)) break;
+      bore = std::min(bore.value_or(1e300), z);
+    }
   }
   if (!top) {
     const AabbTree all(shell);
@@ -122,7 +141,7 @@ TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const Guide
   // wholly between the template's surfaces): the template body is the sleeve's material there.
   p.sleeve_inside_template =
       column >= p.sleeve_top - 1e-6 || (all_hit && p.sleeve_top < *lowest_top && p.sleeve_bottom > *highest_bottom);
-  p.bore_top = std::max(p.sleeve_top, p.template_top) + options.bore_margin;
+  p.bore_top = std::max({p.sleeve_top, p.template_top, roof}) + options.bore_margin;
   p.bore_bottom = bore.value_or(p.template_bottom) - options.bore_margin;
   return p;
 }
@@ -330,6 +349,37 @@ void drop_unjoined(TriangleMesh& mesh, std::vector<std::uint8_t>& from_tube, con
   }
 }
 
+// A bore near the rim can cut a sliver of template off the guide: the pieces other than the largest
+// (by volume) would fall off the print; they are dropped and counted.
+std::size_t drop_fragments(TriangleMesh& mesh, std::vector<std::uint8_t>& from_tube) {
+  UnionFind sets(mesh.vertex_count());
+  for (const Triangle& t : mesh.triangles) {
+    sets.join(t[0], t[1]);
+    sets.join(t[1], t[2]);
+  }
+  std::vector<double> volume(mesh.vertex_count(), 0.0);
+  for (const Triangle& t : mesh.triangles)
+    volume[sets.find(t[0])] += mesh.positions[t[0]].dot(mesh.positions[t[1]].cross(mesh.positions[t[2]])) / 6.0;
+  Index largest = kInvalidIndex;
+  std::size_t pieces = 0;
+  for (Index v = 0; v < mesh.vertex_count(); ++v) {
+    if (sets.find(v) != v || volume[v] == 0.0) continue;
+    ++pieces;
+    if (largest == kInvalidIndex || volume[v] > volume[largest]) largest = v;
+  }
+  if (pieces <= 1) return 0;
+  std::vector<Index> kept;
+  std::vector<std::uint8_t> tube_faces;
+  for (Index f = 0; f < mesh.face_count(); ++f)
+    if (sets.find(mesh.triangles[f][0]) == largest) {
+      kept.push_back(f);
+      tube_faces.push_back(from_tube[f]);
+    }
+  mesh = submesh(mesh, kept);
+  from_tube = std::move(tube_faces);
+  return pieces - 1;
+}
+
 } // namespace
 
 GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
@@ -438,6 +488,7 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
     from_tube[f] = cut.from_b[f] ? 1 : result.from_tube[cut.source_face[f]];
   result.mesh = std::move(cut.mesh);
   result.from_tube = std::move(from_tube);
+  result.fragments_dropped = drop_fragments(result.mesh, result.from_tube);
   result.bores = std::move(bores);
   result.bore_seconds = seconds_since(t1);
   result.seconds = seconds_since(t0);

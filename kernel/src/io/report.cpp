@@ -96,7 +96,8 @@ nlohmann::json to_json(const TemplateResult& r, const TemplateOptions& options) 
   out["tubes"] = placements(r.tubes);
   out["boolean"] = {{"perturbed_operations", r.perturbed_operations},
                     {"max_perturbation_mm", r.max_perturbation},
-                    {"curve_tolerance_mm", r.curve_tolerance}};
+                    {"curve_tolerance_mm", r.curve_tolerance},
+                    {"fragments_dropped", r.fragments_dropped}};
   if (options.check) out["solid"] = to_json(r.solid);
   if (options.check && options.measure_fit)
     out["fit"] = {{"inner_to_bone", to_json(r.fit.inner_to_bone)},
@@ -110,7 +111,8 @@ nlohmann::json to_json(const GuideResult& g) {
           {"seconds", g.seconds},
           {"perturbed_operations", g.perturbed_operations},
           {"max_perturbation_mm", g.max_perturbation},
-          {"curve_tolerance_mm", g.curve_tolerance}};
+          {"curve_tolerance_mm", g.curve_tolerance},
+          {"fragments_dropped", g.fragments_dropped}};
 }
 
 } // namespace st

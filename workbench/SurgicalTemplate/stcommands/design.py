@@ -27,6 +27,21 @@ class CreateTemplate(Command):
             "App.ActiveDocument.recompute()")
 
 
+class InsertionFromView(Command):
+    name, menu = "InsertionFromView", "Insertion from view"
+    tip = ("Set the selected template's insertion direction to the 3D view's: the guide moves onto the bone the "
+           "way you look at it; undercuts along it are blocked out and the guide checked to come off")
+
+    def IsActive(self):
+        return bool(selected("Template")) and Gui.ActiveDocument is not None
+
+    def Activated(self):
+        shell = selected("Template")[0]
+        d = Gui.ActiveDocument.ActiveView.getViewDirection()
+        run("Insertion from view", f"SurgicalTemplate.set_insertion({ref(shell)}, ({d.x:.6f}, {d.y:.6f}, {d.z:.6f}))\n"
+                                   "App.ActiveDocument.recompute()")
+
+
 class CreateGuide(Command):
     name, menu = "CreateGuide", "Create surgical guide"
     tip = "Merge the selected drilling tubes into the selected template and cut their bores"

@@ -1,7 +1,7 @@
 """The workbench's commands in toolbar and menu order, and their registration with FreeCAD."""
 import FreeCADGui as Gui
 
-from stcommands.design import AddTube, CreateGuide, CreateTemplate, DrawBoundary, Validate
+from stcommands.design import AddTube, CreateGuide, CreateTemplate, DrawBoundary, InsertionFromView, Validate
 from stcommands.files import ExportSTL, ImportBone, ImportPlan, MakeDrawing, OpenCase, SaveCase
 
 
@@ -12,6 +12,7 @@ COMMANDS = {
     "SurgicalTemplate_ImportBone": ImportBone(),
     "SurgicalTemplate_DrawBoundary": DrawBoundary(),
     "SurgicalTemplate_CreateTemplate": CreateTemplate(),
+    "SurgicalTemplate_InsertionFromView": InsertionFromView(),
     "SurgicalTemplate_AddTube": AddTube(),
     "SurgicalTemplate_CreateGuide": CreateGuide(),
     "SurgicalTemplate_Validate": Validate(),

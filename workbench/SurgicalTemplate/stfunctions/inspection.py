@@ -5,6 +5,9 @@ import st_bridge
 from stobjects.base import kind_of
 
 
+BLOCKED = (0.80, 0.20, 0.80)  # facets that meet the bone when the guide comes off
+
+
 def thickness_colour(distance, thickness, clearance=0.0, tolerance=0.01):
     """The thickness map's colour (r, g, b in 0..1) of a distance from the bone (mm): red in the bone,
     green where the guide seats, through yellow to blue at the outer surface, grey beyond (sleeves)."""
@@ -25,7 +28,8 @@ def thickness_colour(distance, thickness, clearance=0.0, tolerance=0.01):
 def inspect(obj, show=True, tolerance=0.01):
     """Inspects a guide or template on its bone with the kernel: {passed, summary, solid, vertices_in_bone,
     deepest_in_bone, seated_vertices, bores: [{name, margin, open}], face_distance (per facet, mm from
-    the bone, negative inside it), thickness, clearance}. With `show` in the GUI, the facets are coloured
+    the bone, negative inside it), thickness, clearance, removal: None, or {removable, direction,
+    blocking: [[x, y, z]], blocked_faces} along the template's InsertionUsed}. With `show` in the GUI, the facets are coloured
     by thickness_colour (the thickness map; recomputing the object removes it)."""
     kind = kind_of(obj)
     if kind not in ("Guide", "Template"):
@@ -39,8 +43,23 @@ def inspect(obj, show=True, tolerance=0.01):
     V, F = st_bridge.mesh_to_arrays(obj.Mesh)
     tubes = [t.Proxy.spec(t) for t in obj.Tubes] if kind == "Guide" else []
     clearance, thickness = float(shell.Clearance.Value), float(shell.Thickness.Value)
-    r = st_bridge.call(k.inspect_guide, V, F, *st_bridge.bone_arrays(shell.Boundary.Bone), tubes, clearance,
-                       tolerance)
+    bone = st_bridge.bone_arrays(shell.Boundary.Bone)
+    r = st_bridge.call(k.inspect_guide, V, F, *bone, tubes, clearance, tolerance)
+    # The removal check along the template's insertion direction, when it has one.
+    d = getattr(shell, "InsertionUsed", App.Vector(0, 0, 0))
+    r["removal"] = None
+    if d.Length > 0:
+        removal = st_bridge.call(k.check_removal, V, F, *bone, st_bridge.vec(d))
+        r["removal"] = {"removable": bool(removal["removable"]), "direction": st_bridge.vec(d),
+                        "blocking": [[float(x) for x in p] for p in removal["blocking"]],
+                        "blocked_faces": [int(x) for x in removal["blocked_faces"]]}
+        # Shown beside the verdict (a printable guide that seats), not folded into it: bone far along
+        # the way off (a neighbouring vertebra) may be out of the way in surgery.
+        if not removal["removable"]:
+            p = removal["blocking"][0]
+            r["summary"] += f"; meets the bone coming off near ({p[0]:.2f}, {p[1]:.2f}, {p[2]:.2f})"
+        else:
+            r["summary"] += "; comes off along its insertion direction"
     d = r.pop("vertex_distance")
     r["face_distance"] = [float(x) for x in d[F].mean(axis=1)]  # FreeCAD keeps the facet order
     r["thickness"], r["clearance"] = thickness, clearance
@@ -50,6 +69,10 @@ def inspect(obj, show=True, tolerance=0.01):
             obj.addProperty("App::PropertyColorList", "ThicknessMap", "Validation",
                             "Facet colours of the last inspection (distance from the bone)", 8 | 16)
             obj.setEditorMode("ThicknessMap", 2)
-        obj.ThicknessMap = [thickness_colour(x, thickness, clearance, tolerance) for x in r["face_distance"]]
+        colours = [thickness_colour(x, thickness, clearance, tolerance) for x in r["face_distance"]]
+        if r["removal"]:
+            # Facets that meet the bone on the way off, in the map's warning colour.
+            colours = [BLOCKED if b else c for c, b in zip(colours, r["removal"]["blocked_faces"])]
+        obj.ThicknessMap = colours
         obj.ViewObject.Coloring = True
     return r

@@ -75,17 +75,28 @@ def make_template(boundary, thickness=2.5, clearance=0.0, resolution=0.0, sampli
         obj.Clearance = clearance
         obj.Resolution = resolution or 0.0
         obj.SamplingStep = int(sampling_step or 0)
-        if insertion is None:
-            obj.Insertion = "None"
-        elif isinstance(insertion, str):
-            if insertion != "auto":
-                raise ValueError(f'insertion: "auto", a direction or None, not "{insertion}"')
-            obj.Insertion = "Auto"
-        else:
-            obj.Insertion = "Direction"
-            obj.InsertionDirection = App.Vector(*[float(c) for c in insertion])
+        set_insertion(obj, insertion)
         _view(obj, "SurgicalTemplate_Template.svg")
     return obj
+
+
+def set_insertion(template, direction):
+    """Sets a template's insertion: "auto", a direction (the guide moves along it onto the bone; e.g. the
+    3D view's direction), or None (no block-out, no removal check). One undo step; recompute after."""
+    with Step(template.Document, "Set insertion direction"):
+        if direction is None:
+            template.Insertion = "None"
+        elif isinstance(direction, str):
+            if direction != "auto":
+                raise ValueError(f'insertion: "auto", a direction or None, not "{direction}"')
+            template.Insertion = "Auto"
+        else:
+            d = App.Vector(*[float(c) for c in direction])
+            if d.Length == 0:
+                raise ValueError("insertion: the direction must not be zero")
+            template.Insertion = "Direction"
+            template.InsertionDirection = d.normalize()
+    return template
 
 
 def make_tube(entry, direction, inner_radius=None, outer_radius=None, length=None, offset=None, name="Tube",

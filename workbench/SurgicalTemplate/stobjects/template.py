@@ -49,6 +49,9 @@ class Template(Feature):
                  "(before block-out)", 0.0, readonly=True)
         self.add(obj, "App::PropertyVolume", "BlockedOutVolume", "Result",
                  "Volume the block-out fills over the bone's undercuts", 0.0, readonly=True)
+        self.add(obj, "App::PropertyVector", "InsertionUsed", "Result",
+                 "The insertion direction of the last design (the least-undercut one with Auto)",
+                 App.Vector(0, 0, 0), readonly=True)
         self.add(obj, "App::PropertyBool", "Removable", "Result",
                  "The guide comes off 20 mm against its insertion direction without meeting the bone",
                  False, readonly=True)
@@ -69,6 +72,8 @@ class Template(Feature):
                            fit=False,  # the solid check, not the fit statistics (Validate inspects)
                            insertion=insertion_argument(obj))
         obj.Mesh = st_bridge.arrays_to_mesh(*r["shell"])
+        if "insertion" not in r and "InsertionUsed" in obj.PropertiesList:
+            obj.InsertionUsed = App.Vector(0, 0, 0)
         obj.InnerFaces = int(r["inner_faces"])
         self.drop_thickness_map(obj)
         obj.Status = f"{r['solid']['summary']}; {r['times']['initial_template_generation']:.3f} s"
@@ -78,6 +83,8 @@ class Template(Feature):
             d = ins["direction"]
             obj.Status += (f"; undercut {ins['undercut_area_mm2']:.1f} mm^2 along ({d[0]:.3f}, {d[1]:.3f}, "
                            f"{d[2]:.3f})")
+            if "InsertionUsed" in obj.PropertiesList:
+                obj.InsertionUsed = App.Vector(*[float(x) for x in d])
             if "Removable" in obj.PropertiesList:
                 obj.BlockedOutVolume = float(ins["blocked_out_volume_mm3"])
                 obj.Removable = bool(ins.get("removable", False))

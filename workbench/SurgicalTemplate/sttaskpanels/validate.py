@@ -42,6 +42,16 @@ class ValidatePanel:
         f.seating.setText("nothing in the bone" if r["vertices_in_bone"] == 0 else
                           f"{r['vertices_in_bone']} vertices in the bone, deepest {r['deepest_in_bone']:.3f} mm")
         f.seated.setText(f"{r['seated_vertices']} vertices within 0.01 mm of the clearance ({r['clearance']:.2f} mm)")
+        removal = r.get("removal")
+        if removal is None:
+            f.removal.setText("not checked (the template has no insertion direction)")
+        elif removal["removable"]:
+            d = removal["direction"]
+            f.removal.setText(f"comes off along ({-d[0]:.2f}, {-d[1]:.2f}, {-d[2]:.2f}) over 20 mm")
+        else:
+            p = removal["blocking"][0]
+            f.removal.setText(f"meets the bone near ({p[0]:.2f}, {p[1]:.2f}, {p[2]:.2f}) and "
+                              f"{len(removal['blocking']) - 1} other place(s): magenta in the map")
         if r["bores"]:
             f.bores.setRowCount(len(r["bores"]))
             for i, b in enumerate(r["bores"]):

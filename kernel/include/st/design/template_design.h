@@ -103,6 +103,7 @@ struct TemplateResult {
   int perturbed_operations = 0;        ///< Boolean operations that needed a tiny displacement
   double max_perturbation = 0.0;       ///< the largest such displacement, mm
   double curve_tolerance = 0.0;        ///< how far the Boolean intersection curves may have moved, mm
+  std::size_t fragments_dropped = 0;   ///< slivers of template the bores cut off (dropped, guide.h)
   TriangleMesh columns, bores;         ///< the operands of the tubes' union and difference (guide.h)
   TriangleMesh inner;                  ///< inner surface (bone side), oriented as the bone
   TriangleMesh outer;                  ///< outer surface, oriented outward

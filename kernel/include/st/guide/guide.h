@@ -50,16 +50,17 @@ struct GuideResult {
   TriangleMesh mesh;                   ///< the guide, float32-exact
   std::vector<std::uint8_t> from_tube; ///< per face: 1 when it is sleeve wall, cap or bore
   std::vector<TubePlacement> tubes;
-  double placement_seconds = 0.0; ///< rays along the axes (part of union_seconds)
-  double columns_seconds = 0.0;   ///< columns united with each other (part of union_seconds)
-  double union_seconds = 0.0;     ///< placement, columns united with each other and with the shell
-  double bore_seconds = 0.0;      ///< bores united and cut
-  double seconds = 0.0;           ///< all of it: the paper's "Runtime of Boolean operation"
-  int perturbed_operations = 0;   ///< Boolean operations that needed a tiny displacement
-  double max_perturbation = 0.0;  ///< the largest such displacement, mm (surfaces may move this much)
-  double curve_tolerance = 0.0;   ///< how far the intersection curves may have moved, mm (boolean.h)
-  TriangleMesh columns;           ///< the sleeve columns united (second operand of the union)
-  TriangleMesh bores;             ///< the bores united (second operand of the difference)
+  double placement_seconds = 0.0;    ///< rays along the axes (part of union_seconds)
+  double columns_seconds = 0.0;      ///< columns united with each other (part of union_seconds)
+  double union_seconds = 0.0;        ///< placement, columns united with each other and with the shell
+  double bore_seconds = 0.0;         ///< bores united and cut
+  double seconds = 0.0;              ///< all of it: the paper's "Runtime of Boolean operation"
+  int perturbed_operations = 0;      ///< Boolean operations that needed a tiny displacement
+  double max_perturbation = 0.0;     ///< the largest such displacement, mm (surfaces may move this much)
+  double curve_tolerance = 0.0;      ///< how far the intersection curves may have moved, mm (boolean.h)
+  std::size_t fragments_dropped = 0; ///< slivers of template the bores cut off the guide (dropped)
+  TriangleMesh columns;              ///< the sleeve columns united (second operand of the union)
+  TriangleMesh bores;                ///< the bores united (second operand of the difference)
 };
 
 /// Merges `tubes` into the closed template `shell` whose first `inner_faces` faces are its inner
