@@ -1,6 +1,7 @@
 #pragma once
 // Fixtures built in code and assertion helpers for the kernel tests.
 
+#include "st/core/aabb_tree.h"
 #include "st/core/mesh.h"
 #include "st/validate/validate.h"
 
@@ -91,6 +92,25 @@ inline std::string examples_dir() { return ST_EXAMPLES_DIR; }
 inline std::string output_dir() {
   std::filesystem::create_directories(ST_TEST_OUTPUT_DIR);
   return ST_TEST_OUTPUT_DIR;
+}
+
+/// How deep the deepest vertex of the flagged faces of `guide` lies behind the bone's surface (mm,
+/// 0 when none does); `report(point, depth)` hears each vertex deeper than `loud`.
+inline double deepest_in_bone(const TriangleMesh& guide, const std::vector<std::uint8_t>& flagged,
+                              const TriangleMesh& bone, const AabbTree& bone_tree,
+                              const std::function<void(const Vec3&, double)>& report = {}, double loud = 1e-3) {
+  double deepest = 0.0;
+  for (Index f = 0; f < guide.face_count(); ++f) {
+    if (!flagged[f]) continue;
+    for (Index w : guide.triangles[f]) {
+      const Vec3& p = guide.positions[w];
+      const auto cp = bone_tree.closest_point(p, 1.0);
+      if (!cp || (p - cp->point).dot(triangle_normal(bone, cp->face)) >= 0.0) continue;
+      if (report && cp->distance > loud) report(p, cp->distance);
+      deepest = std::max(deepest, cp->distance);
+    }
+  }
+  return deepest;
 }
 
 inline void expect_valid_solid(const TriangleMesh& mesh) {

@@ -94,19 +94,10 @@ TEST(GuideProperty, RandomSleevesOnARealTemplate) {
             g.tubes[0].foot_lift);
       }
       // Nothing of the sleeve inside the bone (beyond float rounding).
-      double deepest = 0.0;
-      for (Index f = 0; f < g.mesh.face_count(); ++f) {
-        if (!g.from_tube[f]) continue;
-        for (Index w : g.mesh.triangles[f]) {
-          const Vec3& p = g.mesh.positions[w];
-          const auto cp = bone_tree.closest_point(p, 1.0);
-          if (cp && (p - cp->point).dot(triangle_normal(bone, cp->face)) < 0.0) {
-            if (only >= 0 && cp->distance > 1e-3)
-              std::printf("  in bone %.3f at %.4f %.4f %.4f (face %u)\n", cp->distance, p.x(), p.y(), p.z(), f);
-            deepest = std::max(deepest, cp->distance);
-          }
-        }
-      }
+      const double deepest =
+          test::deepest_in_bone(g.mesh, g.from_tube, bone, bone_tree, [&](const Vec3& p, double depth) {
+            if (only >= 0) std::printf("  in bone %.3f at %.4f %.4f %.4f\n", depth, p.x(), p.y(), p.z());
+          });
       deepest_overall = std::max(deepest_overall, deepest);
       if (deepest > 1e-3) {
         ++failures;

@@ -110,16 +110,7 @@ TEST_P(RimSleeves, BuiltValidOrRefusedForBoneInTheBore) {
         continue;
       }
       ++outcome[g.tubes[0].trimmed_by_bone ? "built, trimmed by the bone" : "built"];
-      double deepest = 0.0;
-      for (Index f = 0; f < g.mesh.face_count(); ++f) {
-        if (!g.from_tube[f]) continue;
-        for (Index w : g.mesh.triangles[f]) {
-          const Vec3& p = g.mesh.positions[w];
-          const auto cp = bone_tree.closest_point(p, 1.0);
-          if (cp && (p - cp->point).dot(triangle_normal(bone, cp->face)) < 0.0)
-            deepest = std::max(deepest, cp->distance);
-        }
-      }
+      const double deepest = test::deepest_in_bone(g.mesh, g.from_tube, bone, bone_tree);
       deepest_overall = std::max(deepest_overall, deepest);
       EXPECT_LT(deepest, 1e-3) << tube.name << ": a sleeve enters the bone";
       if (k % 10 == 0) {
