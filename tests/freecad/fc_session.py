@@ -53,9 +53,11 @@ def run_gui(tmp_path_factory, script, result_name, timeout=600, **extra):
     out = os.path.join(os.environ.get("ST_TEST_OUTPUT_DIR", str(tmp_path_factory.mktemp("out"))), "gui")
     os.makedirs(out, exist_ok=True)
     env = _environment(tmp_path_factory, out, extra)
+    path = os.path.join(out, result_name)
+    if os.path.exists(path):
+        os.remove(path)  # a result left by an earlier run must not stand in for this one
     p = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "freecad", os.path.join(HERE, script)],
                        capture_output=True, text=True, env=env, timeout=timeout)
-    path = os.path.join(out, result_name)
     assert os.path.exists(path), p.stdout[-3000:] + p.stderr[-3000:]
     result = json.load(open(path))
     assert not result["errors"], result["errors"]

@@ -96,7 +96,17 @@ def work():
         result["validate"] = {"error": panel.error, "passed": r["passed"], "summary": r["summary"],
                               "bores": r["bores"], "in_bone": r["vertices_in_bone"],
                               "colours": len(guide.ThicknessMap), "facets": guide.Mesh.CountFacets,
-                              "coloring": guide.ViewObject.Coloring, "state": list(guide.State)}
+                              "coloring": guide.ViewObject.Coloring, "state": list(guide.State),
+                              "removal": r["removal"] is not None and r["removal"]["removable"],
+                              "removal_text": panel.form.removal.text()}
+        # The template's insertion arrow, and the undercut map the panel shows on demand.
+        overlay = guide.Shell.ViewObject.Proxy.overlay
+        result["validate"]["arrow"] = overlay.arrow.getNumChildren()
+        panel.show_undercuts.setChecked(True)
+        Gui.updateGui()
+        result["validate"]["map_faces"] = overlay.map_faces
+        result["validate"]["region_faces"] = len(guide.Shell.Proxy.undercut[0][1])
+        panel.show_undercuts.setChecked(False)
         # Look at the inner surface from inside the bone: the seat is green.
         bone.ViewObject.Visibility = False
         view = Gui.ActiveDocument.ActiveView

@@ -29,6 +29,11 @@ def test_validate_panel_inspects_and_colours_the_guide(session):
     assert [b["open"] for b in v["bores"]] == [True, True] and v["in_bone"] == 0
     assert v["colours"] == v["facets"] and v["coloring"]
     assert "Touched" not in v["state"]  # showing the map does not make the guide recompute
+    # The removal check along the template's insertion direction is shown, the arrow is drawn, and the
+    # undercut map covers the bone under the template.
+    assert v["removal_text"] and ("comes off" in v["removal_text"] or "meets the bone" in v["removal_text"])
+    assert v["arrow"] == 1
+    assert v["map_faces"] == v["region_faces"] > 0
     green, red = session["map_shot"]["green_red"]
     assert green > 0.005 and red < 0.001  # the seat seen from the bone's side; nothing in the bone
     assert session["coloring_off"] is False

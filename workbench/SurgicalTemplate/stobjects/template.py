@@ -77,6 +77,8 @@ class Template(Feature):
         obj.InnerFaces = int(r["inner_faces"])
         self.drop_thickness_map(obj)
         obj.Status = f"{r['solid']['summary']}; {r['times']['initial_template_generation']:.3f} s"
+        # The covered bone and what of it is hidden, for the undercut map (in memory, not saved).
+        self.undercut = (r["insertion"]["region"], r["insertion"]["hidden"]) if "insertion" in r else None
         if "insertion" in r and "UndercutArea" in obj.PropertiesList:
             ins = r["insertion"]
             obj.UndercutArea = float(ins["undercut_area_mm2"])

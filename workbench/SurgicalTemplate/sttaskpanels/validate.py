@@ -70,6 +70,16 @@ class ValidatePanel:
             swatch.setStyleSheet(f"color: {colour.name()}")
         self.show_map = f.show_map
         self.show_map.toggled.connect(lambda on: setattr(obj.ViewObject, "Coloring", bool(on)))
+        # The undercut map on the template (the guide's shell): the bone it covers, hidden parts red.
+        shell = getattr(obj, "Shell", None) or obj
+        self.overlay = getattr(getattr(shell, "ViewObject", None) and shell.ViewObject.Proxy, "overlay", None)
+        self.undercut = getattr(shell.Proxy, "undercut", None)
+        self.show_undercuts = f.show_undercuts
+        if self.overlay is None or self.undercut is None:
+            self.show_undercuts.setEnabled(False)
+            self.show_undercuts.setToolTip("The template has no insertion direction (or has not been recomputed)")
+        else:
+            self.show_undercuts.toggled.connect(lambda on: self.overlay.show_map(*self.undercut, on=bool(on)))
         (App.Console.PrintMessage if r["passed"] else App.Console.PrintError)(
             f"Surgical Template: {obj.Label}: {r['summary']}\n")
 
@@ -77,5 +87,7 @@ class ValidatePanel:
         return int(QtGui.QDialogButtonBox.Close)
 
     def reject(self):
+        if getattr(self, "overlay", None) is not None:
+            self.overlay.show_map(None, None, on=False)
         Gui.Control.closeDialog()
         return True

@@ -1,6 +1,7 @@
 """The view provider of every workbench object (boundary, template, tube, guide): its icon, its
-children in the tree, the boundary's edit mode (the boundary task panel) and context menu, and the
-thickness map's colouring turned off when a recompute drops the map."""
+children in the tree, the boundary's edit mode (the boundary task panel) and context menu, the
+thickness map's colouring turned off when a recompute drops the map, and a template's insertion arrow
+and undercut map (stviewproviders.insertion_view)."""
 import os
 
 import SurgicalTemplate_paths
@@ -15,6 +16,11 @@ class ViewProvider:
 
     def attach(self, vobj):
         self.Object = vobj.Object
+        self.overlay = None
+        if getattr(getattr(vobj.Object, "Proxy", None), "kind", "") == "Template":
+            from stviewproviders.insertion_view import InsertionOverlay
+            self.overlay = InsertionOverlay(vobj)
+            self.overlay.update(vobj.Object)
 
     def getIcon(self):
         return os.path.join(SurgicalTemplate_paths.ICONS, self.icon)
@@ -34,6 +40,12 @@ class ViewProvider:
         its colouring off."""
         if prop == "ThicknessMap" and not len(obj.ThicknessMap) and obj.ViewObject.Coloring:
             obj.ViewObject.Coloring = False
+        if prop in ("Mesh", "InsertionUsed") and getattr(self, "overlay", None) is not None:
+            self.overlay.update(obj)
+
+    def onChanged(self, vobj, prop):
+        if prop == "Visibility" and getattr(self, "overlay", None) is not None:
+            self.overlay.set_visible(vobj.Visibility)
 
     # Edit mode. A boundary's editor is the boundary panel on its points (sttaskpanels.boundary.edit_boundary);
     # a double-click in the tree enters edit mode 0 (FreeCAD's default for Part features, so there is no
