@@ -43,5 +43,40 @@ TEST(PolygonFill, AnnulusBetweenTwoRings) {
   EXPECT_EQ(tris->size(), 192u + 128u);
 }
 
+TEST(PolygonFill, CombWithTwoHolesAndCollinearRuns) {
+  // A comb (ten teeth: many reflex corners), its back a run of collinear points, with two square
+  // holes in the back: the triangles cover exactly the comb minus the holes.
+  std::vector<Point2> pts;
+  std::vector<Index> outer;
+  auto add = [&](double x, double y, std::vector<Index>& loop) {
+    loop.push_back(static_cast<Index>(pts.size()));
+    pts.push_back({x, y});
+  };
+  for (int k = 0; k <= 20; ++k) add(k, 0.0, outer); // the back's lower edge, collinear
+  for (int k = 10; k > 0; --k) {                    // teeth, right to left
+    add(2.0 * k, 8.0, outer);
+    add(2.0 * k - 1.0, 8.0, outer);
+    add(2.0 * k - 1.0, 3.0, outer);
+    add(2.0 * k - 2.0, 3.0, outer);
+  }
+  outer.pop_back(); // (0, 3) closes onto (0, 0) through the left edge
+  add(0.0, 8.0, outer);
+  std::vector<Index> hole1, hole2;
+  for (const auto& [x, y] : std::vector<std::array<double, 2>>{{2, 1}, {2, 2}, {4, 2}, {4, 1}}) add(x, y, hole1);
+  for (const auto& [x, y] : std::vector<std::array<double, 2>>{{12, 1}, {12, 2}, {15, 2}, {15, 1}}) add(x, y, hole2);
+  ASSERT_GT(loop_area2(pts, outer), 0.0);
+  ASSERT_LT(loop_area2(pts, hole1), 0.0);
+  const auto tris = fill_polygon(pts, {outer, hole1, hole2});
+  ASSERT_TRUE(tris.has_value());
+  EXPECT_NEAR(area_of(pts, *tris), 0.5 * (loop_area2(pts, outer) + loop_area2(pts, hole1) + loop_area2(pts, hole2)),
+              1e-9);
+}
+
+TEST(PolygonFill, LoopsThatCrossAreRefused) {
+  // A bow tie (the loop crosses itself): no ear clipping covers it; nothing is returned.
+  const std::vector<Point2> pts = {{0, 0}, {2, 2}, {2, 0}, {0, 2}};
+  EXPECT_FALSE(fill_polygon(pts, {{0, 1, 2, 3}}).has_value());
+}
+
 } // namespace
 } // namespace st

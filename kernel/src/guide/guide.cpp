@@ -345,7 +345,9 @@ void drop_unjoined(TriangleMesh& mesh, std::vector<std::uint8_t>& from_tube, con
     }
     if (!has_sleeve)
       throw conflict(tubes[i], tube_point(tubes[i], placements[i].sleeve_top),
-                     "sleeve stands on bone beside the template, clear of it (it would not be joined)");
+                     placements[i].trimmed_by_bone
+                         ? "sleeve stands on bone beside the template: the bone under it cuts it off from the template"
+                         : "sleeve stands on bone beside the template, clear of it (it would not be joined)");
   }
 }
 
