@@ -252,14 +252,7 @@ TEST(GuideSeat, ASleeveOverARidgeStandsOnItAndABoreThroughItIsRefused) {
   o.boundary_points = {{-8, -5, 0}, {1.5, -5, 0}, {1.5, 5, 0}, {-8, 5, 0}};
   o.inside = Vec3(-3, 0, 0);
   o.thickness = 2.0;
-  TubeSpec t;
-  t.name = "beside the ridge";
-  t.entry = Vec3(0.4, 0, 0);
-  t.direction = -Vec3::UnitZ();
-  t.inner_radius = 1.0;
-  t.outer_radius = 2.5;
-  t.offset = 3.0;
-  t.length = 10.0;
+  TubeSpec t = make_tube("beside the ridge", Vec3(0.4, 0, 0), -Vec3::UnitZ(), 1.0, 2.5, 10.0, 3.0);
   o.tubes = {t};
   const TemplateResult r = design_template(bone, o);
   EXPECT_TRUE(r.solid.valid()) << r.solid.summary();

@@ -9,7 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
+#include <numeric>
 #include <unordered_set>
 
 namespace st {
@@ -53,17 +53,17 @@ std::optional<std::vector<std::vector<Index>>> zone_loops(const TriangleMesh& re
 }
 
 /// The ruled strip between a zone's outer border and its one hole (ruled_surface.h), in vertex indices.
-std::optional<std::vector<std::array<Index, 3>>> ruled_fill(const TriangleMesh& region, const std::vector<Index>& outer,
-                                                            std::vector<Index> hole) {
+std::optional<std::vector<Triangle>> ruled_fill(const TriangleMesh& region, const std::vector<Index>& outer,
+                                                std::vector<Index> hole) {
   std::reverse(hole.begin(), hole.end());
   std::vector<Vec3> p, q;
   for (Index v : outer) p.push_back(region.positions[v]);
   for (Index v : hole) q.push_back(region.positions[v]);
   const auto m = static_cast<Index>(outer.size());
   const RuledResult strip = ruled_surface(p, q, 0, m);
-  std::vector<std::array<Index, 3>> out;
+  std::vector<Triangle> out;
   for (const Triangle& t : strip.triangles) {
-    std::array<Index, 3> u{};
+    Triangle u{};
     for (int k = 0; k < 3; ++k) u[k] = t[k] < m ? outer[t[k]] : hole[t[k] - m];
     out.push_back(u);
   }
@@ -76,13 +76,12 @@ double signed_volume(const Vec3& o, const Vec3& a, const Vec3& b, const Vec3& c)
 
 } // namespace
 
-BlockOutResult block_out(const AabbTree& bone, const TriangleMesh& region, const std::vector<float>& sampled,
+BlockOutResult block_out(const SweepTest& sweep, const TriangleMesh& region, const std::vector<float>& sampled,
                          const Vec3& direction, double reach) {
   BlockOutResult out;
   const Index nf = region.face_count();
   // Hidden faces: those the sampling saw hidden, and every face whose raised prism along -d meets the
   // bone (exact: a face partly in the shadow of a bulge, its samples all in the light, is found).
-  const SweepTest sweep(bone);
   const RemovalReport swept = sweep(region, direction, reach, SweepStart::raised);
   std::vector<float> hidden(nf, 0.0f);
   for (Index f = 0; f < nf; ++f)
@@ -154,7 +153,7 @@ BlockOutResult block_out(const AabbTree& bone, const TriangleMesh& region, const
     return !added.empty();
   };
   // The zone's fill, or nothing (see blockout.h).
-  auto fill = [&](std::size_t z) -> std::optional<std::vector<std::array<Index, 3>>> {
+  auto fill = [&](std::size_t z) -> std::optional<std::vector<Triangle>> {
     const std::vector<Index>& faces = zone_faces[z];
     auto loops = zone_loops(region, opposite, faces, zone, static_cast<std::int32_t>(z));
     if (!loops) return std::nullopt;
@@ -191,17 +190,9 @@ BlockOutResult block_out(const AabbTree& bone, const TriangleMesh& region, const
         if (outside && !in_zone) return std::nullopt;
       }
     // The fill itself must be free to come off: no bone above it within the reach.
-    TriangleMesh piece;
-    std::unordered_map<Index, Index> local;
-    for (const auto& t : *triangles) {
-      Triangle lt{};
-      for (int k = 0; k < 3; ++k) {
-        const auto [it, fresh] = local.emplace(t[k], piece.vertex_count());
-        if (fresh) piece.positions.push_back(region.positions[t[k]]);
-        lt[k] = it->second;
-      }
-      piece.triangles.push_back(lt);
-    }
+    std::vector<Index> all(triangles->size());
+    std::iota(all.begin(), all.end(), Index{0});
+    const TriangleMesh piece = submesh(TriangleMesh{region.positions, *triangles}, all);
     if (!sweep(piece, d, reach, SweepStart::raised).removable) return std::nullopt;
     return triangles;
   };
@@ -209,7 +200,7 @@ BlockOutResult block_out(const AabbTree& bone, const TriangleMesh& region, const
   for (std::size_t z = 0; z < zone_faces.size(); ++z) {
     if (zone_faces[z].empty()) continue; // joined another zone
     const Vec3 somewhere = region.positions[region.triangles[zone_faces[z].front()][0]];
-    std::optional<std::vector<std::array<Index, 3>>> triangles;
+    std::optional<std::vector<Triangle>> triangles;
     bool trimmed = false;
     // A fill that is blocked (bone rises above the straight fill between the zone's borders) is
     // tried again over a zone grown by a ring of faces, up to kGrowthRings times.
@@ -236,8 +227,8 @@ BlockOutResult block_out(const AabbTree& bone, const TriangleMesh& region, const
     ++out.filled_zones;
     out.removed_faces += faces.size();
     double volume = 0.0;
-    for (const auto& t : *triangles) {
-      fills.push_back({t[0], t[1], t[2]});
+    for (const Triangle& t : *triangles) {
+      fills.push_back(t);
       volume += signed_volume(somewhere, region.positions[t[0]], region.positions[t[1]], region.positions[t[2]]);
     }
     for (Index f : faces) {
@@ -278,11 +269,7 @@ BlockOutResult block_out(const AabbTree& bone, const TriangleMesh& region, const
     }
     ++out.trimmed_zones;
     out.rim_changed = true;
-    for (Index f : zone_faces[z]) {
-      const Triangle& t = region.triangles[f];
-      const Vec3 &a = region.positions[t[0]], &b = region.positions[t[1]], &c = region.positions[t[2]];
-      out.trimmed_area_mm2 += 0.5 * (b - a).cross(c - a).norm();
-    }
+    for (Index f : zone_faces[z]) out.trimmed_area_mm2 += 0.5 * triangle_normal(region, f).norm();
   }
   assemble();
   return out;

@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <numeric>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -153,33 +154,21 @@ InsertionReport analyse_insertion(const AabbTree& tree, const TriangleMesh& regi
 
 // The region's faces after block-out, its unused vertices dropped (rim and sources renumbered).
 void apply_block_out(CutResult& inner, BlockOutResult&& b) {
-  std::vector<Index> renumber(inner.region.vertex_count(), kInvalidIndex);
-  Index used = 0;
-  for (Triangle& t : b.triangles)
-    for (Index& v : t) {
-      if (renumber[v] == kInvalidIndex) renumber[v] = used++;
-      v = renumber[v];
-    }
-  TriangleMesh region;
-  region.positions.resize(used);
-  std::vector<CutResult::Source> source(used);
-  std::vector<Index> source_vertex(used);
-  for (Index v = 0; v < renumber.size(); ++v)
-    if (renumber[v] != kInvalidIndex) {
-      region.positions[renumber[v]] = inner.region.positions[v];
-      source[renumber[v]] = inner.source[v];
-      source_vertex[renumber[v]] = inner.source_vertex[v];
-    }
-  region.triangles = std::move(b.triangles);
-  inner.region = std::move(region);
-  if (b.rim_changed) {
-    // Trimmed zones: the rim is the region's one border loop (block_out checked there is one), from
-    // the same place on the old rim where it can.
-    std::vector<Index> rim = border_loops(inner.region, MeshTopology(inner.region).all_opposites()).front();
-    inner.rim = std::move(rim);
-  } else {
-    for (Index& v : inner.rim) v = renumber[v];
+  std::vector<Index> all(b.triangles.size()), old_of; // old_of: per kept vertex, its index before
+  std::iota(all.begin(), all.end(), Index{0});
+  TriangleMesh region = submesh(TriangleMesh{inner.region.positions, std::move(b.triangles)}, all, &old_of);
+  std::vector<CutResult::Source> source;
+  std::vector<Index> source_vertex, renumber(inner.region.vertex_count(), kInvalidIndex);
+  for (Index v = 0; v < old_of.size(); ++v) {
+    renumber[old_of[v]] = v;
+    source.push_back(inner.source[old_of[v]]);
+    source_vertex.push_back(inner.source_vertex[old_of[v]]);
   }
+  inner.region = std::move(region);
+  if (b.rim_changed) // trimmed zones: the rim is the region's one border loop (block_out checked it)
+    inner.rim = border_loops(inner.region, MeshTopology(inner.region).all_opposites()).front();
+  else
+    for (Index& v : inner.rim) v = renumber[v];
   inner.source = std::move(source);
   inner.source_vertex = std::move(source_vertex);
 }
@@ -192,7 +181,7 @@ double contact_area(const TriangleMesh& inner, const std::vector<std::uint8_t>& 
   for (Index f = 0; f < inner.face_count(); ++f) {
     const Triangle& t = inner.triangles[f];
     const Vec3 &a = inner.positions[t[0]], &b = inner.positions[t[1]], &c = inner.positions[t[2]];
-    const double full = 0.5 * (b - a).cross(c - a).norm();
+    const double full = 0.5 * triangle_normal(inner, f).norm();
     if (f >= filled.size() || !filled[f]) {
       area += full;
       continue;
@@ -239,6 +228,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   const TriangleMesh bone_region = inner.region;
   result.times.inner_segmentation = seconds_since(t0);
   std::optional<AabbTree> bone_tree;
+  std::optional<SweepTest> sweep; // the bone prepared for the block-out's and the removal check's sweeps
   if (options.analyse_insertion) {
     t0 = Clock::now();
     bone_tree.emplace(bone);
@@ -246,8 +236,9 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     result.times.insertion = seconds_since(t0);
     if (options.block_out && result.insertion.undercut_area_mm2 > 0.0) {
       t0 = Clock::now();
-      BlockOutResult b = block_out(*bone_tree, bone_region, result.insertion.hidden, result.insertion.direction,
-                                   options.removal_distance);
+      sweep.emplace(*bone_tree);
+      BlockOutResult b =
+          block_out(*sweep, bone_region, result.insertion.hidden, result.insertion.direction, options.removal_distance);
       InsertionReport& ins = result.insertion;
       ins.blocked_out = true;
       ins.blocked_out_volume_mm3 = b.volume_mm3;
@@ -461,7 +452,8 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   if (options.analyse_insertion && options.check) {
     t0 = Clock::now();
     InsertionReport& ins = result.insertion;
-    const RemovalReport removal = check_removal(*bone_tree, result.shell, ins.direction, options.removal_distance);
+    if (!sweep) sweep.emplace(*bone_tree);
+    const RemovalReport removal = (*sweep)(result.shell, ins.direction, options.removal_distance);
     ins.removal_checked = true;
     ins.removable = removal.removable;
     ins.removal_distance = removal.distance;

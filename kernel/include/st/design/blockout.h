@@ -21,8 +21,8 @@
 // border vertex used twice, borders that cross seen along d, a fill edge that is already an edge of
 // the kept faces); the removal check (removal.h) then says whether the guide still comes off.
 
-#include "st/core/aabb_tree.h"
 #include "st/core/mesh.h"
+#include "st/validate/removal.h"
 
 #include <cstdint>
 #include <vector>
@@ -42,12 +42,11 @@ struct BlockOutResult {
   std::vector<Vec3> unfilled;       ///< a point of each zone left as it was
 };
 
-/// Blocks out the faces of `region` (part of `bone`'s surface, oriented outward) that the guide
-/// moving along the unit `direction` onto the bone cannot reach: those with sampled[f] > 0 (from
-/// undercut(), insertion.h) and every face whose prism, raised off the bone and swept against the
-/// direction by `reach` (the removal distance), meets the bone (removal.h, SweepStart::raised:
-/// exact, also for a face mostly in view).
-BlockOutResult block_out(const AabbTree& bone, const TriangleMesh& region, const std::vector<float>& sampled,
+/// Blocks out the faces of `region` (part of the surface of the bone `bone` tests against, oriented outward) that the
+/// guide moving along the unit `direction` onto the bone cannot reach: those with sampled[f] > 0 (from undercut(),
+/// insertion.h) and every face whose prism, raised off the bone and swept against the direction by `reach` (the removal
+/// distance), meets the bone (removal.h, SweepStart::raised: exact, also for a face mostly in view).
+BlockOutResult block_out(const SweepTest& bone, const TriangleMesh& region, const std::vector<float>& sampled,
                          const Vec3& direction, double reach);
 
 } // namespace st
