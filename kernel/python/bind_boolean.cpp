@@ -3,6 +3,9 @@
 #include "st/boolean/boolean.h"
 #include "st/guide/inspect.h"
 #include "st/validate/removal.h"
+#include "st/validate/stability.h"
+#include "st/core/topology.h"
+#include "st/io/report.h"
 #include "st/core/aabb_tree.h"
 
 namespace py = pybind11;
@@ -104,4 +107,37 @@ void bind_boolean(py::module_& m) {
       "The removal check (st/validate/removal.h): moves the guide against `direction` (the insertion direction, "
       "onto the bone) by up to `distance` mm. Returns {removable, distance, blocking ((n, 3) places on the guide "
       "where it meets the bone, 2 mm apart, at most 20), blocked_faces (per guide face, 1 where it meets it)}.");
+
+  m.def(
+      "analyse_stability",
+      [](const Points& vi, const Faces& fi, const Points& vb, const Faces& fb, const py::object& direction,
+         double reach, const py::object& outer_points, bool toward_bone) {
+        const TriangleMesh inner = to_mesh(vi, fi, "inner surface");
+        const TriangleMesh bone = to_mesh(vb, fb, "bone");
+        const std::optional<Vec3> given = to_optional_point(direction, "direction");
+        if (!given) throw InvalidInput("direction: expected [x, y, z], not None");
+        if (!(reach >= 0.0)) throw InvalidInput("reach: must be >= 0");
+        const std::vector<Vec3> outer =
+            outer_points.is_none() ? std::vector<Vec3>{} : to_points(outer_points.cast<Points>(), "outer_points");
+        StabilityResult r;
+        {
+          py::gil_scoped_release release;
+          std::vector<Vec3> rim; // the inner surface's border vertices
+          for (const auto& loop : border_loops(inner, MeshTopology(inner).all_opposites()))
+            for (const Index v : loop) rim.push_back(inner.positions[v]);
+          const AabbTree bone_tree(bone), covered(inner);
+          r = guide_stability(inner, bone_tree, *given, reach, outer, rim, covered, reach + 0.05, {}, toward_bone);
+        }
+        return stability_dict(r);
+      },
+      py::arg("inner_vertices"), py::arg("inner_triangles"), py::arg("bone_vertices"), py::arg("bone_triangles"),
+      py::arg("direction"), py::arg("reach") = 0.01, py::arg("outer_points") = py::none(),
+      py::arg("toward_bone") = false,
+      "Will the guide stay put (st/validate/stability.h): contacts of the inner surface within `reach` mm of the "
+      "bone, the free motions and score pressed along `direction` (the insertion direction), the press point "
+      "among `outer_points` and where to extend the border. toward_bone: the inner triangles face the bone (a "
+      "closed guide's own inner facets), not away from it (design_template's 'inner'). Returns the report's stability "
+      "keys (score, "
+      "contacts, free_motions, worst_motion, press_point, press_score, extend, ...) and contact_points, "
+      "contact_normals ((n, 3) arrays).");
 }

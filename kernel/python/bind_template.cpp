@@ -143,6 +143,7 @@ void bind_template(py::module_& m) {
           i["blocked_faces"] =
               py::array_t<std::uint8_t>(static_cast<py::ssize_t>(ins.blocked_faces.size()), ins.blocked_faces.data());
         }
+        if (r.stability.analysed) d["stability"] = stability_dict(r.stability);
         return d;
       },
       py::arg("vertices"), py::arg("triangles"), py::arg("boundary_points"), py::arg("thickness"),
@@ -156,7 +157,9 @@ void bind_template(py::module_& m) {
       "(per shell face), 'tubes' (placements), 'curve', and the report's 'counts', 'times' (s), 'boolean', 'solid' and "
       "(with fit=True) 'fit' (the keys of the tool's --report, st/io/report.h). insertion='auto' or a direction "
       "adds 'insertion': the report's insertion keys (direction, auto, undercut_area_mm2, blocked_out_volume_mm3, "
-      "removable, blocking, contact_area_mm2, ...), 'region' (the covered bone, (vertices, triangles)), 'hidden' "
+      "removable, blocking, contact_area_mm2, ...) and 'stability' (score, free_motions, worst_motion, press_point, "
+      "contact_points, contact_normals, ...: st/validate/stability.h), 'region' (the covered bone, (vertices, "
+      "triangles)), 'hidden' "
       "(per region face, the fraction the guide cannot reach along the direction), 'filled' (per inner face, 1 for "
       "a block-out fill) and 'blocked_faces' (per shell face, 1 where it meets the bone on the way off). block_out "
       "(default: with an insertion) blocks the undercuts out before the clearance.");

@@ -73,6 +73,19 @@ inline py::tuple from_mesh(const TriangleMesh& m) {
 inline py::object from_json(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
 
 /// The solid check (st/io/report.h's keys) with the places of its problems.
+/// The report's stability keys (to_json) with the contacts themselves: contact_points, contact_normals.
+inline py::dict stability_dict(const StabilityResult& r) {
+  py::dict d = from_json(to_json(r));
+  std::vector<Vec3> points, normals;
+  for (const Contact& c : r.contacts) {
+    points.push_back(c.point);
+    normals.push_back(c.normal);
+  }
+  d["contact_points"] = from_points(points);
+  d["contact_normals"] = from_points(normals);
+  return d;
+}
+
 inline py::dict solid_dict(const SolidReport& r) {
   py::dict d = from_json(to_json(r));
   d["problem_points"] = from_points(r.problem_points);

@@ -258,6 +258,16 @@ int design(int argc, char** argv) {
     }
   }
 
+  if (const st::StabilityResult& s = r.stability; s.analysed) {
+    const st::StabilityReport& sr = s.report;
+    std::printf("  stability: score %.2f from %zu contacts (computed in %.3f s); worst motion: %s\n", sr.score,
+                sr.contacts, t.stability, sr.worst_motion.describe().c_str());
+    for (const st::FreeMotion& m : sr.free_motions) std::printf("    free: %s\n", m.describe().c_str());
+    std::printf("    press near %s along the insertion direction (score %.2f there)\n",
+                st::detail::where(s.press.point).c_str(), s.press.score);
+    if (s.extend.found) std::printf("    to hold it better: %s\n", s.extend.describe().c_str());
+  }
+
   if (!report_path.empty()) {
     nlohmann::json rep = st::to_json(r, o);
     rep["case"] = c.name;

@@ -107,6 +107,19 @@ def work():
         result["validate"]["map_faces"] = overlay.map_faces
         result["validate"]["region_faces"] = len(guide.Shell.Proxy.undercut[0][1])
         panel.show_undercuts.setChecked(False)
+        # The stability rows, and the contacts, free motions and press point the panel shows on demand.
+        stab = r["stability"]
+        panel.show_stability.setChecked(True)
+        Gui.updateGui()
+        result["validate"]["stability"] = {
+            "text": panel.form.stability.text(), "motions_text": panel.form.free_motions.text(),
+            "press_text": panel.form.press.text(), "shown": dict(overlay.stability_counts),
+            "contacts": stab["contacts"] if stab else None, "motions": len(stab["free_motions"]) if stab else None,
+            "score": stab["score"] if stab else None, "guide_score": guide.StabilityScore,
+            "template_score": guide.Shell.StabilityScore, "template_status": guide.Shell.Status}
+        panel.show_stability.setChecked(False)
+        Gui.updateGui()
+        result["validate"]["stability"]["hidden"] = dict(overlay.stability_counts)
         # Look at the inner surface from inside the bone: the seat is green.
         bone.ViewObject.Visibility = False
         view = Gui.ActiveDocument.ActiveView

@@ -34,6 +34,14 @@ def test_validate_panel_inspects_and_colours_the_guide(session):
     assert v["removal_text"] and ("comes off" in v["removal_text"] or "meets the bone" in v["removal_text"])
     assert v["arrow"] == 1
     assert v["map_faces"] == v["region_faces"] > 0
+    # Stability: the panel's rows, the overlay's contacts (one green point each), a marker per free
+    # motion and the press point; the guide's StabilityScore repeats its template's, 0..1.
+    s = v["stability"]
+    assert s["text"].startswith("score ") and s["press_text"].startswith("near (")
+    assert s["contacts"] > 100 and s["shown"] == {"contacts": s["contacts"], "motions": s["motions"], "press": 1}
+    assert s["hidden"] == {"contacts": 0, "motions": 0, "press": 0}
+    assert 0.0 <= s["score"] <= 1.0 and 0.0 <= s["template_score"] <= 1.0
+    assert s["guide_score"] == s["template_score"] and "stability" in s["template_status"]
     green, red = session["map_shot"]["green_red"]
     assert green > 0.005 and red < 0.001  # the seat seen from the bone's side; nothing in the bone
     assert session["coloring_off"] is False

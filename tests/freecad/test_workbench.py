@@ -71,6 +71,11 @@ def test_insertion_is_kept_by_cases_and_measured(run):
     # The direction used is kept on the template, and Validate's removal check agrees with the design's.
     assert abs(sum(c * c for c in ins["auto_used"]) - 1.0) < 1e-6
     assert ins["inspect_removable"] == ins["auto_removable"]
+    # The stability score is kept on the template and repeated on the guide; Validate measures it again
+    # on the template's mesh (its inner facets, block-out fills included, float32): close to the design's.
+    stab = ins["stability"]
+    assert 0.0 <= stab["template"] <= 1.0 and stab["guide"] == stab["template"]
+    assert stab["contacts"] > 100 and abs(stab["inspect"] - stab["template"]) < 0.1
     # set_insertion (the "Insertion from view" command's call) makes the template use that direction.
     assert ins["set_mode"] == "Direction"
     assert ins["set_used"] == pytest.approx([0, 0, -1], abs=1e-9)

@@ -96,8 +96,13 @@ result["insertion"]["auto_undercut"] = again.Shell.UndercutArea.Value
 result["insertion"]["auto_removable"] = again.Shell.Removable
 result["insertion"]["auto_used"] = list(again.Shell.InsertionUsed)
 # Validate's inspection checks the finished guide comes off along that direction.
-removal = st.inspect(again)["removal"]
+inspected = st.inspect(again)
+removal = inspected["removal"]
 result["insertion"]["inspect_removable"] = removal["removable"] if removal else None
+# The stability score: on the template from its design, on the guide for expressions, and Validate's own.
+result["insertion"]["stability"] = {"template": again.Shell.StabilityScore, "guide": again.StabilityScore,
+                                    "inspect": inspected["stability"]["score"] if inspected["stability"] else None,
+                                    "contacts": inspected["stability"]["contacts"] if inspected["stability"] else 0}
 # A direction set by the API (as "Insertion from view" does) is the one used.
 st.set_insertion(again.Shell, (0, 0, -2))
 again.Document.recompute()

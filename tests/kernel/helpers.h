@@ -85,6 +85,15 @@ template <class F> TriangleMesh make_height_field(double x0, double x1, double y
   return m;
 }
 
+/// The faces of `mesh` whose centres pass `keep`, as a mesh (all positions kept).
+inline TriangleMesh faces_where(const TriangleMesh& mesh, const std::function<bool(const Vec3&)>& keep) {
+  TriangleMesh out;
+  out.positions = mesh.positions;
+  for (const Triangle& t : mesh.triangles)
+    if (keep((mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0)) out.triangles.push_back(t);
+  return out;
+}
+
 /// The project's examples folder (cases, meshes, plans).
 inline std::string examples_dir() { return ST_EXAMPLES_DIR; }
 

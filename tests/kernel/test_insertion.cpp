@@ -16,15 +16,6 @@
 namespace st {
 namespace {
 
-/// The faces of `mesh` for which keep(centre) holds, as a mesh (all positions kept).
-TriangleMesh faces_where(const TriangleMesh& mesh, const std::function<bool(const Vec3&)>& keep) {
-  TriangleMesh out;
-  out.positions = mesh.positions;
-  for (const Triangle& t : mesh.triangles)
-    if (keep((mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0)) out.triangles.push_back(t);
-  return out;
-}
-
 /// Two meshes as one (the second's vertex indices shifted).
 TriangleMesh joined(TriangleMesh a, const TriangleMesh& b) {
   const Index n = a.vertex_count();
@@ -39,7 +30,7 @@ TEST(Insertion, ABallHidesItsShadowOnThePlaneBelow) {
   const TriangleMesh plane = test::make_height_field(0, 60, 0, 60, 120, [](double, double) { return 0.0; });
   const TriangleMesh bone = joined(plane, test::make_icosphere(5.0, 5, Vec3(30, 30, 10)));
   const TriangleMesh region =
-      faces_where(plane, [](const Vec3& c) { return std::abs(c.x() - 30) < 15 && std::abs(c.y() - 30) < 15; });
+      test::faces_where(plane, [](const Vec3& c) { return std::abs(c.x() - 30) < 15 && std::abs(c.y() - 30) < 15; });
   const AabbTree tree(bone);
   const double disk = std::numbers::pi * 25.0;
   const Undercut straight = undercut(tree, region, Vec3(0, 0, -1), 0.1);
@@ -66,7 +57,7 @@ TEST(Insertion, ACapBeyondAHemisphereIsHiddenBeyondItsEquator) {
   const double R = 20.0;
   const TriangleMesh sphere = test::make_icosphere(R, 5);
   const Vec3 axis = Vec3(1, 2, 3).normalized();
-  const TriangleMesh cap = faces_where(sphere, [&](const Vec3& c) { return c.normalized().dot(axis) > -0.5; });
+  const TriangleMesh cap = test::faces_where(sphere, [&](const Vec3& c) { return c.normalized().dot(axis) > -0.5; });
   const AabbTree tree(sphere);
   double back_facing = 0.0; // on a convex polyhedron, exactly the faces that look away
   for (Index f = 0; f < cap.face_count(); ++f)
@@ -85,7 +76,7 @@ TEST(Insertion, TheAutomaticDirectionFindsTheAxisOfAHemisphere) {
   // phi R^2 is. The search, started 40 degrees off the axis, finds it within 2 degrees.
   const TriangleMesh sphere = test::make_icosphere(20.0, 5);
   const Vec3 axis = Vec3(1, 2, 3).normalized();
-  const TriangleMesh cap = faces_where(sphere, [&](const Vec3& c) { return c.normalized().dot(axis) > 0.0; });
+  const TriangleMesh cap = test::faces_where(sphere, [&](const Vec3& c) { return c.normalized().dot(axis) > 0.0; });
   const AabbTree tree(sphere);
   const Vec3 start =
       (-axis + std::tan(40.0 * std::numbers::pi / 180.0) * axis.cross(Vec3::UnitX()).normalized()).normalized();
@@ -102,7 +93,7 @@ TEST(Insertion, TheAutomaticDirectionOfAnUnevenCapHidesNoMoreThanItsAxis) {
   const TriangleMesh sphere = test::make_icosphere(20.0, 5);
   const Vec3 axis = Vec3(-2, 1, 1).normalized();
   const Vec3 side = axis.cross(Vec3::UnitZ()).normalized();
-  const TriangleMesh cap = faces_where(sphere, [&](const Vec3& c) {
+  const TriangleMesh cap = test::faces_where(sphere, [&](const Vec3& c) {
     const Vec3 n = c.normalized();
     return n.dot(axis) > -0.3 && n.dot(side) < 0.6;
   });

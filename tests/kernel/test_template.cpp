@@ -167,6 +167,16 @@ TEST_P(ExampleCase, DesignsAValidTemplate) {
         << "meets the bone near "
         << (r.insertion.blocking.empty() ? Vec3::Zero() : r.insertion.blocking[0]).transpose();
   }
+  // Every case gets its stability: contacts about one per mm^2 of the inner surface in contact, a
+  // score in [0, 1], a press point on the outer surface; a guide that comes off lifts off freely.
+  ASSERT_TRUE(r.stability.analysed);
+  const StabilityReport& s = r.stability.report;
+  EXPECT_NEAR(static_cast<double>(s.contacts), r.insertion.contact_area_mm2, 0.05 * r.insertion.contact_area_mm2 + 5.0);
+  EXPECT_GE(s.score, 0.0);
+  EXPECT_LE(s.score, 1.0);
+  EXPECT_LT(distances_to_surface({r.stability.press.point}, r.outer).max, 1e-9);
+  if (r.insertion.removable) EXPECT_TRUE(s.lift_off_free);
+  if (s.score == 0.0 && s.lift_off_free) EXPECT_FALSE(s.free_motions.size() == 1) << "nothing but the lift-off is free";
   write_stl(r.shell, output_dir() + "/" + c.name + ".stl");
 }
 

@@ -64,6 +64,35 @@ def test_insertion_analysis_of_a_cap_beyond_the_equator(stk):
     assert "insertion" not in stk.design_template(V, F, ring, thickness=2.0, inside=[0, 0, 20], check=False)
 
 
+def test_a_guide_on_a_ball_turns_about_its_centre(stk):
+    # The cap's guide (80 degrees) seats on a tessellated sphere: turns about the centre are held only
+    # by the facets (the bone's vertex normals are not exactly radial), so the score is nearly 0 and
+    # the worst motion is a turn about an axis through the centre.
+    V, F = icosphere(20.0, 5)
+    ring = circle(20.0, math.radians(80), 16)
+    r = stk.design_template(V, F, ring, thickness=2.0, inside=[0, 0, 20], insertion=[0, 0, -1])
+    s = r["stability"]
+    assert s["lift_off_free"] and 0.0 <= s["score"] < 0.01
+    worst = s["worst_motion"]
+    assert worst["kind"] == "turn" and worst["lift"] < 0.01
+    assert np.linalg.norm(np.cross(np.asarray(worst["point"]), worst["direction"])) < 2.0  # near the centre
+    assert s["contact_points"].shape == (s["contacts"], 3)
+    assert s["contacts"] > 0.9 * 2 * math.pi * 400 * (1 - math.cos(math.radians(80)))
+    assert abs(np.linalg.norm(s["contact_points"], axis=1) - 20.0).max() < 0.1
+    assert r["times"]["stability"] > 0
+    # The same analysis of the guide's inner surface alone: the module's function for any guide.
+    inner_v, inner_f = r["inner"]
+    again = stk.analyse_stability(inner_v, inner_f, V, F, [0, 0, -1], reach=0.05, outer_points=r["outer"][0])
+    assert abs(again["score"] - s["score"]) < 0.005 and again["worst_motion"]["kind"] == "turn"
+    assert again["press_point"] in r["outer"][0].tolist()
+    # The shell's own inner facets face the bone: said so, they give the same contacts.
+    sv, sf = r["shell"]
+    shell = stk.analyse_stability(sv, sf[:r["inner_faces"]], V, F, [0, 0, -1], reach=0.05, toward_bone=True)
+    assert shell["contacts"] == again["contacts"] and shell["lift_off_free"]
+    with pytest.raises(ValueError, match="direction"):
+        stk.analyse_stability(inner_v, inner_f, V, F, None)
+
+
 def test_offset_and_ruled_surface(stk):
     V, F = icosphere(10.0, 3)
     ov, of = stk.offset_surface(V, F, 1.0, 0.2, False)

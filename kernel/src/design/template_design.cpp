@@ -464,6 +464,14 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
         contact_area(result.inner, ins.filled, *bone_tree, options.clearance + 0.25 * result.resolution);
     result.times.removal = seconds_since(t0);
     result.times.validation += result.times.removal;
+    t0 = Clock::now();
+    // Contacts of the inner surface (block-out fills left out: they bridge what the guide cannot reach).
+    const AabbTree covered(ins.region.empty() ? result.inner : ins.region);
+    result.stability =
+        guide_stability(result.inner, *bone_tree, ins.direction, options.clearance + 0.25 * result.resolution,
+                        result.outer.positions, result.curve, covered, 0.05, ins.filled);
+    result.times.stability = seconds_since(t0);
+    result.times.validation += result.times.stability;
   }
   if (options.check && options.measure_fit) {
     t0 = Clock::now();

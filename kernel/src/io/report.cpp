@@ -2,6 +2,10 @@
 
 namespace st {
 
+namespace {
+nlohmann::json xyz(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
+} // namespace
+
 nlohmann::json to_json(const SolidReport& r) {
   return {{"valid", r.valid()},
           {"closed", r.closed()},
@@ -68,7 +72,8 @@ nlohmann::json to_json(const TemplateResult& r, const TemplateOptions& options) 
                   {"validation", t.validation},
                   {"insertion_analysis", t.insertion},
                   {"block_out", t.block_out},
-                  {"removal_check", t.removal}};
+                  {"removal_check", t.removal},
+                  {"stability", t.stability}};
   if (const InsertionReport& ins = r.insertion; ins.analysed) {
     auto points = [](const std::vector<Vec3>& ps) {
       nlohmann::json a = nlohmann::json::array();
@@ -93,6 +98,7 @@ nlohmann::json to_json(const TemplateResult& r, const TemplateOptions& options) 
       out["insertion"]["inner_area_mm2"] = ins.inner_area_mm2;
     }
   }
+  if (r.stability.analysed) out["stability"] = to_json(r.stability);
   out["tubes"] = placements(r.tubes);
   out["boolean"] = {{"perturbed_operations", r.perturbed_operations},
                     {"max_perturbation_mm", r.max_perturbation},
@@ -103,6 +109,38 @@ nlohmann::json to_json(const TemplateResult& r, const TemplateOptions& options) 
     out["fit"] = {{"inner_to_bone", to_json(r.fit.inner_to_bone)},
                   {"outer_to_inner", to_json(r.fit.outer_to_inner)},
                   {"rim_to_curve", to_json(r.fit.rim_to_curve)}};
+  return out;
+}
+
+nlohmann::json to_json(const FreeMotion& m) {
+  static const char* const kinds[] = {"slide", "turn", "screw", "lift_off"};
+  nlohmann::json out = {{"text", m.describe()},          {"kind", kinds[static_cast<int>(m.kind)]},
+                        {"direction", xyz(m.direction)}, {"keeps_contact", m.keeps_contact},
+                        {"blocked", m.blocked},          {"lift", m.lift}};
+  if (m.kind == FreeMotion::Kind::turn || m.kind == FreeMotion::Kind::screw) out["point"] = xyz(m.point);
+  if (m.kind == FreeMotion::Kind::screw) out["pitch_mm_per_rad"] = m.pitch;
+  return out;
+}
+
+nlohmann::json to_json(const StabilityResult& s) {
+  const StabilityReport& r = s.report;
+  nlohmann::json motions = nlohmann::json::array();
+  for (const FreeMotion& m : r.free_motions) motions.push_back(to_json(m));
+  nlohmann::json out = {{"score", r.score},
+                        {"contacts", r.contacts},
+                        {"direction", xyz(r.direction)},
+                        {"centroid", xyz(r.centroid)},
+                        {"scale_mm", r.scale},
+                        {"lift_off_free", r.lift_off_free},
+                        {"free_motions", motions},
+                        {"worst_motion", to_json(r.worst_motion)},
+                        {"press_point", xyz(s.press.point)},
+                        {"press_score", s.press.score}};
+  if (s.extend.found)
+    out["extend"] = {{"text", s.extend.describe()},
+                     {"near", xyz(s.extend.rim_point)},
+                     {"towards", xyz(s.extend.bone_point)},
+                     {"facing", s.extend.facing}};
   return out;
 }
 

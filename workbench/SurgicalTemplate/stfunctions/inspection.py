@@ -1,5 +1,6 @@
 """The inspection of a guide or template on its bone (inspect), and the thickness map's colours."""
 import FreeCAD as App
+import numpy as np
 
 import st_bridge
 from stobjects.base import kind_of
@@ -25,11 +26,32 @@ def thickness_colour(distance, thickness, clearance=0.0, tolerance=0.01):
     return stops[-1][1]
 
 
+def stability(template, bone, direction):
+    """Will the guide stay put: the kernel's analyse_stability of the template's inner surface (its
+    first InnerFaces facets) on the bone arrays `bone`, pressed along `direction`; the press point among
+    the template's other vertices."""
+    V, F = st_bridge.mesh_to_arrays(template.Mesh)
+    n = int(template.InnerFaces)
+    if n <= 0 or n > len(F):
+        return None
+    inner = F[:n]
+    outside = np.ones(len(V), dtype=bool)
+    outside[inner.ravel()] = False
+    outer = V[outside]
+    resolution = float(template.Resolution.Value) or float(template.Thickness.Value) / 8.0
+    reach = float(template.Clearance.Value) + 0.25 * resolution
+    return st_bridge.call(st_bridge.kernel().analyse_stability, V, inner, *bone, st_bridge.vec(direction),
+                          reach=reach, outer_points=outer if len(outer) else None,
+                          toward_bone=True)  # the solid's facets face out of it: into the bone
+
+
 def inspect(obj, show=True, tolerance=0.01):
     """Inspects a guide or template on its bone with the kernel: {passed, summary, solid, vertices_in_bone,
     deepest_in_bone, seated_vertices, bores: [{name, margin, open}], face_distance (per facet, mm from
     the bone, negative inside it), thickness, clearance, removal: None, or {removable, direction,
-    blocking: [[x, y, z]], blocked_faces} along the template's InsertionUsed}. With `show` in the GUI, the facets are coloured
+    blocking: [[x, y, z]], blocked_faces} along the template's InsertionUsed, stability: None, or the
+    kernel's analyse_stability of the template's inner surface pressed along it (score, free_motions,
+    worst_motion, press_point, contact_points, ...)}. With `show` in the GUI, the facets are coloured
     by thickness_colour (the thickness map; recomputing the object removes it)."""
     kind = kind_of(obj)
     if kind not in ("Guide", "Template"):
@@ -60,6 +82,9 @@ def inspect(obj, show=True, tolerance=0.01):
             r["summary"] += f"; meets the bone coming off near ({p[0]:.2f}, {p[1]:.2f}, {p[2]:.2f})"
         else:
             r["summary"] += "; comes off along its insertion direction"
+    r["stability"] = stability(shell, bone, d) if d.Length > 0 else None
+    if r["stability"]:
+        r["summary"] += f"; stability score {r['stability']['score']:.2f}"
     d = r.pop("vertex_distance")
     r["face_distance"] = [float(x) for x in d[F].mean(axis=1)]  # FreeCAD keeps the facet order
     r["thickness"], r["clearance"] = thickness, clearance

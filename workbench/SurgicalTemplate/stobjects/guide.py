@@ -1,5 +1,5 @@
 """The surgical guide (Mesh::FeaturePython): the template shell with its tubes merged and their bores
-cut by the kernel, checked as a printable solid."""
+cut by the kernel, checked as a printable solid; StabilityScore repeats its template's for expressions."""
 import st_bridge
 from stobjects.base import Feature
 
@@ -12,6 +12,9 @@ class Guide(Feature):
         self.add(obj, "App::PropertyLink", "Shell", "Guide", "The template shell")
         self.add(obj, "App::PropertyLinkList", "Tubes", "Guide", "The drilling tubes merged into the shell")
         self.add(obj, "App::PropertyLength", "Tolerance", "Guide", "Chordal tolerance of sleeves and bores", 0.01)
+        self.add(obj, "App::PropertyFloat", "StabilityScore", "Result",
+                 "The template's stability score (0..1): how firmly the guide is held pressed along its "
+                 "insertion direction", 0.0, readonly=True)
         self.add(obj, "App::PropertyString", "Status", "Result", "What the kernel reported", "", readonly=True)
 
     def execute(self, obj):
@@ -38,3 +41,5 @@ class Guide(Feature):
         obj.Mesh = st_bridge.arrays_to_mesh(V, F)
         self.drop_thickness_map(obj)
         obj.Status = f"{report['summary']}; tubes {seconds:.3f} s"
+        if "StabilityScore" in obj.PropertiesList:
+            obj.StabilityScore = float(getattr(shell, "StabilityScore", 0.0))

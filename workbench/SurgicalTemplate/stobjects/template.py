@@ -2,7 +2,8 @@
 Clearance, Resolution); a kernel failure raises in execute() and the object keeps its last good mesh.
 Insertion (Auto, Direction, None): along the least-undercut direction or InsertionDirection the kernel
 blocks the undercuts out and checks that the finished guide comes off (UndercutArea, BlockedOutVolume,
-Removable hold the results); None keeps the bone's surface as it is, with no analysis."""
+Removable hold the results) and measures how firmly the seated guide is held pressed along it
+(StabilityScore, 0..1, st/validate/stability.h); None keeps the bone's surface as it is, with no analysis."""
 import FreeCAD as App
 
 import st_bridge
@@ -55,6 +56,9 @@ class Template(Feature):
         self.add(obj, "App::PropertyBool", "Removable", "Result",
                  "The guide comes off 20 mm against its insertion direction without meeting the bone",
                  False, readonly=True)
+        self.add(obj, "App::PropertyFloat", "StabilityScore", "Result",
+                 "How firmly the contacts hold the guide pressed along its insertion direction: 0 when it can "
+                 "slide or turn, 1 when it can only lift off (Validate shows the free motions)", 0.0, readonly=True)
         self.add(obj, "App::PropertyInteger", "InnerFaces", "Result",
                  "The first facets that form the inner surface (the seat on the bone)", 0, readonly=True)
         self.add(obj, "App::PropertyString", "Status", "Result", "What the kernel reported", "", readonly=True)
@@ -79,6 +83,9 @@ class Template(Feature):
         obj.Status = f"{r['solid']['summary']}; {r['times']['initial_template_generation']:.3f} s"
         # The covered bone and what of it is hidden, for the undercut map (in memory, not saved).
         self.undercut = (r["insertion"]["region"], r["insertion"]["hidden"]) if "insertion" in r else None
+        self.stability = r.get("stability")  # contacts, free motions, press point (in memory)
+        if "StabilityScore" in obj.PropertiesList:
+            obj.StabilityScore = float(self.stability["score"]) if self.stability else 0.0
         if "insertion" in r and "UndercutArea" in obj.PropertiesList:
             ins = r["insertion"]
             obj.UndercutArea = float(ins["undercut_area_mm2"])
@@ -95,3 +102,5 @@ class Template(Feature):
                 elif ins.get("blocking"):
                     p = ins["blocking"][0]
                     obj.Status += f"; meets the bone coming off near ({p[0]:.2f}, {p[1]:.2f}, {p[2]:.2f})"
+        if self.stability:
+            obj.Status += f"; stability {self.stability['score']:.2f}"

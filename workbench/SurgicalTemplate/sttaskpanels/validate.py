@@ -1,5 +1,6 @@
 """The Validate task panel: the inspection of a guide or template (stfunctions.inspection) with its verdict,
-seating and bores, and the thickness map on the mesh with its legend. Its form is
+seating, bores, removal and stability (score, free motions, where to press, which border to extend), the
+thickness map on the mesh with its legend, and on demand the undercut map and the contacts. Its form is
 Resources/ui/validate.ui."""
 import FreeCAD as App
 import FreeCADGui as Gui
@@ -52,6 +53,7 @@ class ValidatePanel:
             p = removal["blocking"][0]
             f.removal.setText(f"meets the bone near ({p[0]:.2f}, {p[1]:.2f}, {p[2]:.2f}) and "
                               f"{len(removal['blocking']) - 1} other place(s): magenta in the map")
+        self.show_stability_lines(r.get("stability"))
         if r["bores"]:
             f.bores.setRowCount(len(r["bores"]))
             for i, b in enumerate(r["bores"]):
@@ -80,8 +82,36 @@ class ValidatePanel:
             self.show_undercuts.setToolTip("The template has no insertion direction (or has not been recomputed)")
         else:
             self.show_undercuts.toggled.connect(lambda on: self.overlay.show_map(*self.undercut, on=bool(on)))
+        self.show_stability = f.show_stability
+        if self.overlay is None or not r.get("stability"):
+            self.show_stability.setEnabled(False)
+            self.show_stability.setToolTip("The template has no insertion direction (or has not been recomputed)")
+        else:
+            self.show_stability.toggled.connect(
+                lambda on: self.overlay.show_stability(r["stability"], on=bool(on)))
         (App.Console.PrintMessage if r["passed"] else App.Console.PrintError)(
             f"Surgical Template: {obj.Label}: {r['summary']}\n")
+
+    def show_stability_lines(self, s):
+        """The stability rows: score, free motions, where to press, and which border to extend."""
+        f = self.form
+        if not s:
+            f.stability.setText("not analysed (the template has no insertion direction)")
+            for w in (f.free_motions, f.press, f.extend, f.label_free_motions, f.label_press, f.label_extend):
+                w.hide()
+            return
+        worst = s["worst_motion"]["text"]
+        f.stability.setText(f"score {s['score']:.2f} from {s['contacts']} contacts (0: it can slide or turn, "
+                            f"1: it can only lift off); worst: {worst}")
+        f.free_motions.setText("\n".join(m["text"] for m in s["free_motions"]) or "none")
+        p = s["press_point"]
+        f.press.setText(f"near ({p[0]:.2f}, {p[1]:.2f}, {p[2]:.2f}) along the insertion direction "
+                        f"(score {s['press_score']:.2f} pressed there)")
+        if "extend" in s:
+            f.extend.setText(s["extend"]["text"])
+        else:
+            f.extend.hide()
+            f.label_extend.hide()
 
     def getStandardButtons(self):
         return int(QtGui.QDialogButtonBox.Close)
@@ -89,5 +119,6 @@ class ValidatePanel:
     def reject(self):
         if getattr(self, "overlay", None) is not None:
             self.overlay.show_map(None, None, on=False)
+            self.overlay.show_stability(None, on=False)
         Gui.Control.closeDialog()
         return True

@@ -9,6 +9,7 @@
 #include "st/guide/guide.h"
 #include "st/core/mesh.h"
 #include "st/core/tolerances.h"
+#include "st/validate/stability.h"
 #include "st/validate/validate.h"
 
 #include <optional>
@@ -61,6 +62,7 @@ struct TemplateTimes {
   double insertion = 0.0;  ///< the insertion analysis; not part of total
   double block_out = 0.0;  ///< the undercut block-out; part of inner_segmentation
   double removal = 0.0;    ///< the removal check; part of validation
+  double stability = 0.0;  ///< contacts, free motions, score, press point; part of validation
 };
 
 /// Where the guide goes on (TemplateOptions::analyse_insertion).
@@ -118,6 +120,7 @@ struct TemplateResult {
   int sampling_step = 0;   ///< the sampling step used
   TemplateTimes times;
   InsertionReport insertion;
+  StabilityResult stability;
   SolidReport solid; ///< filled when options.check
   TemplateFit fit;   ///< filled when options.check
 };

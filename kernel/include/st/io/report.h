@@ -32,6 +32,14 @@ nlohmann::json to_json(const TubePlacement& p);
 /// {inner_to_bone, outer_to_inner, rim_to_curve}}.
 nlohmann::json to_json(const TemplateResult& r, const TemplateOptions& options);
 
+/// {text, kind (slide, turn, screw, lift_off), direction, keeps_contact, lift, point (turn, screw),
+/// pitch_mm_per_rad (screw)}
+nlohmann::json to_json(const FreeMotion& m);
+
+/// {score, contacts, centroid, scale_mm, lift_off_free, free_motions: [motions], worst_motion,
+/// press_point, press_score, extend: {text, near, towards, facing} (when found)}
+nlohmann::json to_json(const StabilityResult& s);
+
 /// {tubes: [placements], seconds, perturbed_operations, max_perturbation_mm, curve_tolerance_mm}
 nlohmann::json to_json(const GuideResult& g);
 

@@ -1,0 +1,545 @@
+#include "st/validate/stability.h"
+
+#include "detail/format.h"
+#include "st/core/errors.h"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace st {
+
+namespace {
+
+using VecX = Eigen::VectorXd;
+using MatX = Eigen::MatrixXd;
+
+/// An eigenvalue of sum a_i a_i^T below this leaves its motion free (every contact moves into or out
+/// of the bone by less than 3e-5 per unit of motion); absolute, so that fewer contacts never free less.
+constexpr double kFreeEigenvalue = 1e-9;
+
+std::string direction_text(const Vec3& v) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "(%.3f, %.3f, %.3f)", v.x(), v.y(), v.z());
+  return buf;
+}
+
+/// Orthonormal basis (columns) of the null space of `m` (rows x n), by SVD with a relative threshold.
+MatX null_space(const MatX& m, double threshold = 1e-9) {
+  const Eigen::Index n = m.cols();
+  if (m.rows() == 0) return MatX::Identity(n, n);
+  const Eigen::JacobiSVD<MatX> svd(m, Eigen::ComputeFullV);
+  const VecX& s = svd.singularValues();
+  const double top = s.size() ? s(0) : 0.0;
+  Eigen::Index rank = 0;
+  while (rank < s.size() && s(rank) > threshold * std::max(top, 1.0)) ++rank;
+  return svd.matrixV().rightCols(n - rank);
+}
+
+/// Vertex enumeration of {z in R^m : h_j . z >= r_j} (m <= 5) inside the box |z_k| <= B, by cutting
+/// the box with one half-space at a time (double description; two vertices are adjacent when the
+/// constraints tight at both have rank m - 1). Coordinates beyond m are 0.
+class Polytope {
+public:
+  using Vec5 = Eigen::Matrix<double, 5, 1>;
+
+  Polytope(Eigen::Index m, double box) : m_(m) {
+    for (Eigen::Index k = 0; k < m; ++k) {
+      rows_.push_back(Vec5::Unit(k));  // z_k >= -B
+      rows_.push_back(-Vec5::Unit(k)); // z_k <= B
+    }
+    const std::size_t corners = std::size_t{1} << m;
+    for (std::size_t bits = 0; bits < corners; ++bits) {
+      Vec5 z = Vec5::Zero();
+      std::vector<int> tight;
+      for (Eigen::Index k = 0; k < m; ++k) {
+        const bool high = (bits >> k) & 1U;
+        z(k) = high ? box : -box;
+        tight.push_back(static_cast<int>(2 * k + (high ? 1 : 0)));
+      }
+      vertices_.emplace_back(z, std::move(tight));
+    }
+  }
+
+  /// Cuts by h . z >= r (h unit, m coordinates). Returns false when nothing is left.
+  bool cut(const VecX& h_m, double r) {
+    Vec5 h = Vec5::Zero();
+    h.head(m_) = h_m;
+    s_.resize(vertices_.size());
+    bool any_out = false, any_in = false;
+    for (std::size_t i = 0; i < vertices_.size(); ++i) {
+      s_[i] = h.dot(vertices_[i].z) - r;
+      (s_[i] < -tolerance(vertices_[i]) ? any_out : any_in) = true;
+    }
+    if (!any_out) return true; // redundant: it never cuts later either (the polytope only shrinks)
+    if (!any_in) {
+      vertices_.clear();
+      return false;
+    }
+    rows_.push_back(h);
+    const int id = static_cast<int>(rows_.size()) - 1;
+    std::vector<std::size_t> inside, outside;
+    for (std::size_t i = 0; i < vertices_.size(); ++i) {
+      const double eps = tolerance(vertices_[i]);
+      if (s_[i] < -eps) outside.push_back(i);
+      else if (s_[i] <= eps) vertices_[i].tight.push_back(id); // on the new hyperplane: kept, no edge to cut
+      else inside.push_back(i);
+    }
+    // Candidates for adjacency share at least m - 1 tight constraints: count them through an index
+    // from each constraint to the inside vertices tight at it.
+    if (at_.size() < rows_.size()) at_.resize(rows_.size());
+    for (std::uint32_t k = 0; k < inside.size(); ++k)
+      for (const int c : vertices_[inside[k]].tight) at_[static_cast<std::size_t>(c)].push_back(k);
+    std::vector<int> shared(inside.size(), 0), common;
+    std::vector<std::uint32_t> touched;
+    std::vector<Vertex> fresh;
+    for (const std::size_t q : outside) {
+      touched.clear();
+      if (m_ <= 1) // a segment: its two ends are adjacent, nothing need be shared
+        for (std::uint32_t k = 0; k < inside.size(); ++k) touched.push_back(k);
+      for (const int c : vertices_[q].tight)
+        for (const std::uint32_t k : at_[static_cast<std::size_t>(c)])
+          if (shared[k]++ == 0 && m_ > 1) touched.push_back(k);
+      for (const std::uint32_t k : touched) {
+        const bool enough = m_ <= 1 || shared[k] >= m_ - 1;
+        shared[k] = 0;
+        if (!enough) continue;
+        const std::size_t p = inside[k];
+        common.clear();
+        std::set_intersection(vertices_[p].tight.begin(), vertices_[p].tight.end(), vertices_[q].tight.begin(),
+                              vertices_[q].tight.end(), std::back_inserter(common));
+        if (!adjacent(common)) continue;
+        const double t = s_[p] / (s_[p] - s_[q]);
+        Vertex v{vertices_[p].z + t * (vertices_[q].z - vertices_[p].z), common};
+        v.tight.push_back(id);
+        fresh.push_back(std::move(v));
+      }
+    }
+    for (std::uint32_t k = 0; k < inside.size(); ++k)
+      for (const int c : vertices_[inside[k]].tight) at_[static_cast<std::size_t>(c)].clear();
+    // Drop the cut-off vertices in place (the kept ones are not copied), then add the new ones.
+    std::size_t w = 0;
+    for (std::size_t i = 0, o = 0; i < vertices_.size(); ++i) {
+      if (o < outside.size() && outside[o] == i) {
+        ++o;
+        continue;
+      }
+      if (w != i) vertices_[w] = std::move(vertices_[i]);
+      ++w;
+    }
+    vertices_.resize(w);
+    add_merged(std::move(fresh));
+    return !vertices_.empty();
+  }
+
+  [[nodiscard]] std::vector<VecX> vertices() const {
+    std::vector<VecX> out;
+    for (const Vertex& v : vertices_) out.emplace_back(v.z.head(m_));
+    return out;
+  }
+
+private:
+  struct Vertex {
+    Vertex() = default;
+    Vertex(const Vec5& at, std::vector<int> t) : z(at), tight(std::move(t)), eps(1e-7 * (1.0 + at.norm())) {}
+    Vec5 z = Vec5::Zero();
+    std::vector<int> tight; // sorted ids of the constraints tight at it (the new one last)
+    double eps = 0.0;       // tolerance(): closer to a hyperplane than this, the vertex lies on it
+  };
+  /// Closer to a hyperplane than this, a vertex lies on it: no facet thinner than this is made, so no
+  /// cluster of vertices a rounding apart (which the rank test would take for adjacent) forms.
+  [[nodiscard]] static double tolerance(const Vertex& v) { return v.eps; }
+
+  /// Adds the new vertices, those that coincide within the tolerance as one (their tight sets joined).
+  void add_merged(std::vector<Vertex> fresh) {
+    std::sort(fresh.begin(), fresh.end(), [](const Vertex& a, const Vertex& b) { return a.z(0) < b.z(0); });
+    std::vector<char> gone(fresh.size(), 0);
+    for (std::size_t i = 0; i < fresh.size(); ++i) {
+      if (gone[i]) continue;
+      const double tol = tolerance(fresh[i]);
+      bool joined = false;
+      for (std::size_t j = i + 1; j < fresh.size() && fresh[j].z(0) - fresh[i].z(0) <= tol; ++j)
+        if (!gone[j] && (fresh[j].z - fresh[i].z).norm() <= tol) {
+          gone[j] = 1;
+          joined = true;
+          fresh[i].tight.insert(fresh[i].tight.end(), fresh[j].tight.begin(), fresh[j].tight.end());
+        }
+      if (joined) {
+        std::sort(fresh[i].tight.begin(), fresh[i].tight.end());
+        fresh[i].tight.erase(std::unique(fresh[i].tight.begin(), fresh[i].tight.end()), fresh[i].tight.end());
+      }
+      vertices_.push_back(std::move(fresh[i]));
+    }
+  }
+  /// Whether the rows `common` have rank m - 1 (Gram-Schmidt twice over the unit rows, a row counting
+  /// when more than 1e-9 of it is left).
+  [[nodiscard]] bool adjacent(const std::vector<int>& common) const {
+    if (m_ <= 1) return true;
+    std::array<Vec5, 5> basis;
+    Eigen::Index rank = 0;
+    for (const int c : common) {
+      Vec5 r = rows_[static_cast<std::size_t>(c)];
+      for (int pass = 0; pass < 2; ++pass)
+        for (Eigen::Index k = 0; k < rank; ++k)
+          r -= r.dot(basis[static_cast<std::size_t>(k)]) * basis[static_cast<std::size_t>(k)];
+      if (r.norm() <= 1e-9) continue;
+      if (rank == m_ - 1) return false; // rank m: a single point, not an edge
+      basis[static_cast<std::size_t>(rank++)] = r.normalized();
+    }
+    return rank == m_ - 1;
+  }
+
+  Eigen::Index m_;
+  std::vector<Vec5> rows_;
+  std::vector<Vertex> vertices_;
+  std::vector<double> s_;
+  std::vector<std::vector<std::uint32_t>> at_;
+};
+
+Twist contact_row(const Contact& c, const Vec3& centroid, double scale) {
+  Twist a;
+  a.head<3>() = c.normal;
+  a.tail<3>() = (c.point - centroid).cross(c.normal) / scale;
+  return a;
+}
+
+} // namespace
+
+std::string FreeMotion::describe() const {
+  char buf[256];
+  const std::string p = detail::where(point), dir = direction_text(direction);
+  switch (kind) {
+  case Kind::lift_off:
+    return blocked ? "cannot lift off along " + dir + ": the bone holds it (an undercut)"
+                   : "lifts off along " + dir + " (against the insertion direction)";
+  case Kind::slide: std::snprintf(buf, sizeof buf, "slides along %s", dir.c_str()); break;
+  case Kind::turn:
+    std::snprintf(buf, sizeof buf, "turns about the axis through %s along %s", p.c_str(), dir.c_str());
+    break;
+  case Kind::screw:
+    std::snprintf(buf, sizeof buf, "screws about the axis through %s along %s, %.3g mm per radian", p.c_str(),
+                  dir.c_str(), pitch);
+    break;
+  }
+  std::string text = buf;
+  if (!keeps_contact) text += lift > 0.0 ? ", lifting off the bone" : ", lifting off part of the bone";
+  return text;
+}
+
+FreeMotion describe_twist(const StabilityReport& report, const Twist& x, bool keeps_contact, double tolerance) {
+  FreeMotion m;
+  m.twist = x.normalized();
+  m.keeps_contact = keeps_contact;
+  const Vec3 v = m.twist.head<3>(), w = m.twist.tail<3>() / report.scale;
+  m.lift = keeps_contact ? 0.0 : std::max(0.0, -report.direction.dot(v));
+  if (m.twist.tail<3>().norm() <= tolerance) {
+    m.kind =
+        v.normalized().dot(-report.direction) > 1.0 - tolerance ? FreeMotion::Kind::lift_off : FreeMotion::Kind::slide;
+    m.direction = v.normalized();
+    m.point = report.centroid;
+    return m;
+  }
+  const double w2 = w.squaredNorm();
+  m.direction = w.normalized();
+  m.pitch = w.dot(v) / w2;
+  m.point = report.centroid + w.cross(v) / w2;
+  m.kind =
+      std::abs(m.pitch) <= std::max(tolerance, 1e-3) * report.scale ? FreeMotion::Kind::turn : FreeMotion::Kind::screw;
+  return m;
+}
+
+std::vector<Contact> sample_contacts(const TriangleMesh& inner, const AabbTree& bone, double reach, double spacing,
+                                     const std::vector<std::uint8_t>& skip, bool toward_bone) {
+  if (!(spacing > 0.0) || !std::isfinite(spacing)) throw InvalidInput("contacts: spacing must be > 0");
+  std::vector<Contact> contacts;
+  const std::vector<Vec3> bone_normals = vertex_normals(bone.mesh());
+  const double per_area = 1.0 / (spacing * spacing);
+  double running = 0.0;
+  std::size_t n = 0; // samples so far: the pattern's index
+  // The R2 sequence (plastic number): well spread in the unit square, folded into the triangle.
+  constexpr double a1 = 0.7548776662466927, a2 = 0.5698402909980532;
+  for (Index f = 0; f < inner.face_count(); ++f) {
+    if (f < skip.size() && skip[f]) continue;
+    const Vec3 normal = toward_bone ? Vec3(-triangle_normal(inner, f)) : triangle_normal(inner, f);
+    const double before = running;
+    running += 0.5 * normal.norm() * per_area;
+    const auto k = static_cast<std::size_t>(std::floor(running) - std::floor(before));
+    const Triangle& t = inner.triangles[f];
+    const Vec3 &a = inner.positions[t[0]], &b = inner.positions[t[1]], &c = inner.positions[t[2]];
+    for (std::size_t j = 0; j < k; ++j, ++n) {
+      double u = std::fmod(0.5 + a1 * static_cast<double>(n), 1.0),
+             v = std::fmod(0.5 + a2 * static_cast<double>(n), 1.0);
+      if (u + v > 1.0) {
+        u = 1.0 - u;
+        v = 1.0 - v;
+      }
+      const Vec3 p = a + u * (b - a) + v * (c - a);
+      const auto cp = bone.closest_point(p, reach);
+      if (!cp || cp->distance > reach) continue;
+      const Triangle& bt = bone.mesh().triangles[cp->face];
+      const Vec3 &b0 = bone.mesh().positions[bt[0]], &b1 = bone.mesh().positions[bt[1]],
+                 &b2 = bone.mesh().positions[bt[2]];
+      const Vec3 face = (b1 - b0).cross(b2 - b0);
+      Vec3 nb = face;
+      if (const double f2 = face.squaredNorm(); f2 > 0.0) { // barycentric weights of the closest point
+        const Vec3 q = cp->point;
+        const double w0 = (b1 - q).cross(b2 - q).dot(face) / f2, w1 = (b2 - q).cross(b0 - q).dot(face) / f2;
+        const Vec3 smooth = w0 * bone_normals[bt[0]] + w1 * bone_normals[bt[1]] + (1.0 - w0 - w1) * bone_normals[bt[2]];
+        if (smooth.dot(face) > 0.0) nb = smooth;
+      }
+      if (nb.norm() == 0.0) nb = normal;
+      if (nb.dot(normal) < 0.0) nb = -nb;
+      if (nb.norm() == 0.0) continue;
+      contacts.push_back({p, nb.normalized()});
+    }
+  }
+  return contacts;
+}
+
+StabilityReport analyse_stability(const std::vector<Contact>& contacts, const Vec3& direction,
+                                  const StabilityOptions& options) {
+  if (!direction.allFinite() || direction.norm() == 0.0)
+    throw InvalidInput("stability: the insertion direction must be finite and non-zero");
+  StabilityReport report;
+  report.direction = direction.normalized();
+  report.contacts = contacts.size();
+  for (const Contact& c : contacts) report.centroid += c.point;
+  if (!contacts.empty()) report.centroid /= static_cast<double>(contacts.size());
+  if (options.centroid) report.centroid = *options.centroid;
+  double spread = 0.0;
+  for (const Contact& c : contacts) spread += (c.point - report.centroid).squaredNorm();
+  report.scale = contacts.empty() ? 1.0 : std::sqrt(spread / static_cast<double>(contacts.size()));
+  if (options.scale > 0.0) report.scale = options.scale;
+  if (!(report.scale > 1e-9) || !std::isfinite(report.scale)) report.scale = 1.0;
+  if (!report.centroid.allFinite()) throw InvalidInput("stability: the centroid must be finite");
+
+  std::vector<Twist> rows;
+  rows.reserve(contacts.size());
+  Eigen::Matrix<double, 6, 6> m = Eigen::Matrix<double, 6, 6>::Zero();
+  for (const Contact& c : contacts) {
+    rows.push_back(contact_row(c, report.centroid, report.scale));
+    m += rows.back() * rows.back().transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(m);
+  std::vector<int> free_axes, held_axes;
+  for (int k = 0; k < 6; ++k) (eigen.eigenvalues()(k) <= kFreeEigenvalue ? free_axes : held_axes).push_back(k);
+  MatX linear(6, static_cast<Eigen::Index>(free_axes.size())), held(6, static_cast<Eigen::Index>(held_axes.size()));
+  for (std::size_t k = 0; k < free_axes.size(); ++k)
+    linear.col(static_cast<Eigen::Index>(k)) = eigen.eigenvectors().col(free_axes[k]);
+  for (std::size_t k = 0; k < held_axes.size(); ++k)
+    held.col(static_cast<Eigen::Index>(k)) = eigen.eigenvectors().col(held_axes[k]);
+
+  // The linear part: its slides (no turn), then turns orthogonal to them.
+  if (linear.cols() > 0) {
+    const MatX slide_coeffs = null_space(linear.bottomRows(3));
+    const MatX slides = linear * slide_coeffs;
+    MatX turn_coeffs = null_space(slide_coeffs.transpose());
+    const MatX turns = linear * turn_coeffs;
+    for (Eigen::Index k = 0; k < slides.cols(); ++k) {
+      Twist x = slides.col(k);
+      if (-report.direction.dot(x.head<3>()) < 0.0) x = -x;
+      report.free_motions.push_back(describe_twist(report, x, true));
+    }
+    for (Eigen::Index k = 0; k < turns.cols(); ++k) {
+      Twist x = turns.col(k);
+      if (x.tail<3>().dot(Vec3::Ones()) < 0.0) x = -x;
+      report.free_motions.push_back(describe_twist(report, x, true));
+    }
+  }
+
+  // The rest: the section P = F ∩ {lift = 1} within the held space, z the coordinates in it.
+  Twist lift_row = Twist::Zero();
+  lift_row.head<3>() = -report.direction;
+  const VecX c = held.transpose() * lift_row;
+  std::vector<FreeMotion> rising_free;
+  bool bounded = false, empty = true;
+  std::vector<VecX> extreme;
+  if (held.cols() > 0 && c.norm() > 1e-12) {
+    const VecX y0 = c / c.squaredNorm();
+    const MatX e = null_space(c.transpose()); // held.cols() x m, orthonormal
+    const Eigen::Index dim = e.cols();
+    Polytope p(dim, options.box);
+    std::vector<char> done(rows.size(), 0);
+    empty = false;
+    for (const std::size_t stride : {64U, 16U, 4U, 1U}) {
+      for (std::size_t i = 0; i < rows.size() && !empty; i += stride) {
+        if (done[i]) continue;
+        done[i] = 1;
+        const VecX b = held.transpose() * rows[i];
+        const VecX h = e.transpose() * b;
+        const double r = -b.dot(y0), hn = h.norm();
+        if (hn <= 1e-12) {
+          if (r > 1e-9) empty = true; // a contact blocks every rising motion
+          continue;
+        }
+        if (!p.cut(h / hn, r / hn)) empty = true;
+      }
+    }
+    if (!empty) {
+      bounded = true;
+      for (const VecX& z : p.vertices()) {
+        const bool far = z.size() > 0 && z.cwiseAbs().maxCoeff() >= options.box * (1.0 - 1e-6);
+        if (far) {
+          bounded = false;
+          const Twist dir = held * (e * z).normalized();
+          const bool distinct = std::none_of(rising_free.begin(), rising_free.end(), [&](const FreeMotion& f) {
+            return f.twist.dot(dir) > std::cos(15.0 * M_PI / 180.0);
+          });
+          if (distinct && rising_free.size() < 4) {
+            // Within about 1 / box of the direction P is unbounded along (the box cuts it at a finite width).
+            FreeMotion f = describe_twist(report, dir, false, 10.0 / options.box);
+            f.lift = 0.0;
+            rising_free.push_back(f);
+          }
+        } else {
+          extreme.push_back(y0 + e * z);
+        }
+      }
+    }
+  }
+  report.free_motions.insert(report.free_motions.end(), rising_free.begin(), rising_free.end());
+
+  report.lift_off_free =
+      std::all_of(rows.begin(), rows.end(), [&](const Twist& a) { return a.dot(lift_row) >= -1e-6; });
+  if (report.lift_off_free) report.free_motions.push_back(describe_twist(report, lift_row, false));
+
+  report.bounded = bounded && linear.cols() == 0;
+  if (report.bounded) {
+    double far = 0.0;
+    VecX worst;
+    for (const VecX& y : extreme) {
+      report.extreme_motions.push_back(held * y.normalized());
+      if (y.norm() > far) {
+        far = y.norm();
+        worst = y;
+      }
+    }
+    report.score = std::clamp(1.0 / far, 0.0, 1.0);
+    report.worst_motion = describe_twist(report, held * worst.normalized(), false);
+  } else if (!report.free_motions.empty()) {
+    report.worst_motion = report.free_motions.front();
+  } else {
+    report.worst_motion = describe_twist(report, lift_row, false);
+    report.worst_motion.blocked = !report.lift_off_free;
+  }
+  if (empty && linear.cols() == 0) report.score = 0.0;
+  return report;
+}
+
+double press_score(const StabilityReport& report, const Vec3& point) {
+  if (!report.bounded || report.extreme_motions.empty()) return 0.0;
+  Twist g;
+  g.head<3>() = -report.direction;
+  g.tail<3>() = -(point - report.centroid).cross(report.direction) / report.scale;
+  double score = 1.0;
+  for (const Twist& x : report.extreme_motions) score = std::min(score, g.dot(x));
+  return std::max(score, 0.0);
+}
+
+PressPoint best_press_point(const StabilityReport& report, const std::vector<Vec3>& candidates) {
+  // The rise of extreme motion x pushed at p is affine in p: alpha + beta . (p - c). Visited in order of
+  // their lowest value over the candidates, the motions past the current minimum cannot lower it.
+  double reach = 0.0;
+  for (const Vec3& p : candidates) reach = std::max(reach, (p - report.centroid).norm());
+  struct Rise {
+    double alpha;
+    Vec3 beta;
+    double lowest;
+  };
+  std::vector<Rise> rises;
+  for (const Twist& x : report.extreme_motions) {
+    const Vec3 beta = -report.direction.cross(x.tail<3>()) / report.scale;
+    const double alpha = -report.direction.dot(x.head<3>());
+    rises.push_back({alpha, beta, alpha - beta.norm() * reach});
+  }
+  std::sort(rises.begin(), rises.end(), [](const Rise& a, const Rise& b) { return a.lowest < b.lowest; });
+  auto score_at = [&](const Vec3& p) {
+    if (!report.bounded || rises.empty()) return 0.0;
+    double score = 1.0;
+    for (const Rise& r : rises) {
+      if (r.lowest >= score) break;
+      score = std::min(score, r.alpha + r.beta.dot(p - report.centroid));
+    }
+    return std::max(score, 0.0);
+  };
+  if (candidates.empty()) return {report.centroid, score_at(report.centroid)};
+  PressPoint best{candidates.front(), -1.0};
+  double best_off = std::numeric_limits<double>::infinity();
+  for (const Vec3& p : candidates) {
+    const Vec3 r = p - report.centroid;
+    const double score = score_at(p), off = (r - r.dot(report.direction) * report.direction).norm();
+    if (score > best.score + 1e-3 || (score >= best.score - 1e-3 && off < best_off)) {
+      best = {p, score};
+      best_off = off;
+    }
+  }
+  return best;
+}
+
+std::string ExtensionHint::describe() const {
+  if (!found) return "no bone near the boundary faces this motion";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.2f", facing);
+  return "extend the boundary near " + detail::where(rim_point) + " towards " + detail::where(bone_point) +
+         ", where the bone faces the motion (cosine " + buf + ")";
+}
+
+ExtensionHint where_to_extend(const StabilityReport& report, const FreeMotion& motion, const std::vector<Vec3>& rim,
+                              const TriangleMesh& bone, const AabbTree& region, double reach, double on_region) {
+  ExtensionHint hint;
+  if (rim.empty() || bone.empty()) return hint;
+  BoundingBox box;
+  for (const Vec3& q : rim) box.extend(q);
+  box.min -= Vec3::Constant(reach);
+  box.max += Vec3::Constant(reach);
+  const Vec3 v = motion.twist.head<3>(), w = motion.twist.tail<3>() / report.scale;
+  const std::vector<Vec3> normals = vertex_normals(bone);
+  double best = -std::numeric_limits<double>::infinity();
+  for (Index i = 0; i < bone.vertex_count(); ++i) {
+    const Vec3& p = bone.positions[i];
+    if (!box.contains(p) || normals[i].norm() == 0.0) continue;
+    const auto cp = region.closest_point(p, reach);
+    if (!cp || cp->distance <= on_region) continue; // on the covered bone, or too far
+    const Vec3 u = v + w.cross(p - report.centroid);
+    if (u.norm() < 1e-12) continue;
+    const double facing = -normals[i].normalized().dot(u.normalized());
+    if (facing < 0.5) continue;
+    const double value = facing - 0.5 * cp->distance / reach;
+    if (value <= best) continue;
+    best = value;
+    hint = {true, cp->point, p, facing};
+  }
+  if (hint.found) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Vec3& q : rim)
+      if ((q - hint.bone_point).norm() < nearest) {
+        nearest = (q - hint.bone_point).norm();
+        hint.rim_point = q;
+      }
+  }
+  return hint;
+}
+
+StabilityResult guide_stability(const TriangleMesh& inner, const AabbTree& bone, const Vec3& direction, double reach,
+                                const std::vector<Vec3>& press_candidates, const std::vector<Vec3>& rim,
+                                const AabbTree& covered, double on_covered, const std::vector<std::uint8_t>& skip,
+                                bool toward_bone) {
+  StabilityResult out;
+  out.analysed = true;
+  out.contacts = sample_contacts(inner, bone, reach, 1.0, skip, toward_bone);
+  out.report = analyse_stability(out.contacts, direction);
+  std::vector<Vec3> candidates;
+  const std::size_t step = std::max<std::size_t>(1, press_candidates.size() / 1000);
+  for (std::size_t i = 0; i < press_candidates.size(); i += step) candidates.push_back(press_candidates[i]);
+  out.press = best_press_point(out.report, candidates);
+  if (out.report.score < 0.5 && !out.report.free_motions.empty())
+    out.extend = where_to_extend(out.report, out.report.worst_motion, rim, bone.mesh(), covered, 15.0, on_covered);
+  return out;
+}
+
+} // namespace st
