@@ -75,6 +75,7 @@ examples: build
 
 bench: build
 	/usr/bin/python3 bench/run_bench.py --build $(BUILD)
+	/usr/bin/python3 bench/run_validation_bench.py --build $(BUILD)
 	/usr/bin/python3 bench/run_workbench_bench.py --build $(BUILD)
 
 # The same benchmark with the off-the-shelf references side by side: the initial template with VTK +

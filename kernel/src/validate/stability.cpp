@@ -421,6 +421,8 @@ StabilityReport analyse_stability(const std::vector<Contact>& contacts, const Ve
     }
     report.score = std::clamp(1.0 / far, 0.0, 1.0);
     report.worst_motion = describe_twist(report, held * worst.normalized(), false);
+    if (report.worst_motion.kind != FreeMotion::Kind::lift_off) // listed too: the free motion that rises least
+      report.free_motions.insert(report.free_motions.begin(), report.worst_motion);
   } else if (!report.free_motions.empty()) {
     report.worst_motion = report.free_motions.front();
   } else {

@@ -79,7 +79,8 @@ struct StabilityReport {
   Vec3 direction = Vec3::UnitZ();       ///< the insertion direction d (unit)
   double score = 0.0;                   ///< in [0, 1], see above
   bool lift_off_free = false;           ///< the lift-off along -d is a free motion
-  std::vector<FreeMotion> free_motions; ///< linear part, then free motions that do not rise, then the lift-off
+  std::vector<FreeMotion> free_motions; ///< linear part, then free motions that do not rise (when the
+                                        ///< score is 0) or the one that rises least, then the lift-off
   FreeMotion worst_motion;              ///< the free motion that rises least (the score's); the blocked
                                         ///< lift-off when no motion rises (the guide snaps on)
   std::vector<Twist> extreme_motions;   ///< unit extreme rays of F (vertices of P), when P is bounded
