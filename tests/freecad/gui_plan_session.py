@@ -30,6 +30,19 @@ def colour_fractions(path):
     return green / max(total, 1), red / max(total, 1)
 
 
+def colour_near(path, rgb, tolerance=40):
+    """Fraction of the image's pixels within `tolerance` (0..255, per channel) of the colour `rgb` (0..1)."""
+    image = QtGui.QImage(path)
+    target = [round(255 * c) for c in rgb]
+    near = total = 0
+    for y in range(0, image.height(), 2):
+        for x in range(0, image.width(), 2):
+            c = QtGui.QColor(image.pixel(x, y))
+            total += 1
+            near += all(abs(a - b) <= tolerance for a, b in zip((c.red(), c.green(), c.blue()), target))
+    return near / max(total, 1)
+
+
 def kind(o):
     return getattr(getattr(o, "Proxy", None), "kind", "")
 
@@ -132,6 +145,20 @@ def work():
         result["map_shot"] = {"path": path, "green_red": colour_fractions(path)}
         panel.show_map.setChecked(False)
         result["coloring_off"] = guide.ViewObject.Coloring
+        # The contacts seen along the insertion direction, the bone hidden and the thickness map off:
+        # pixels of the contacts' green with the overlay and without.
+        panel.show_stability.setChecked(True)
+        view.setViewDirection(tuple(stab["direction"]))
+        view.fitAll()
+        Gui.updateGui()
+        shots = {}
+        for name in ("on", "off"):
+            path = os.path.join(out, f"gui-stability-{name}.png")
+            view.saveImage(path, 800, 600, "White")
+            shots[name] = colour_near(path, (0.10, 0.75, 0.25))
+            panel.show_stability.setChecked(False)
+            Gui.updateGui()
+        result["validate"]["stability"]["green"] = shots
         panel.reject()
 
         # Tube panel: preset, direction from a second clicked point, then from the view.

@@ -40,6 +40,7 @@ def test_validate_panel_inspects_and_colours_the_guide(session):
     assert s["text"].startswith("score ") and s["press_text"].startswith("near (")
     assert s["contacts"] > 100 and s["shown"] == {"contacts": s["contacts"], "motions": s["motions"], "press": 1}
     assert s["hidden"] == {"contacts": 0, "motions": 0, "press": 0}
+    assert s["green"]["on"] > s["green"]["off"] + 0.005  # the contacts drawn over the guide
     assert 0.0 <= s["score"] <= 1.0 and 0.0 <= s["template_score"] <= 1.0
     assert s["guide_score"] == s["template_score"] and "stability" in s["template_status"]
     green, red = session["map_shot"]["green_red"]

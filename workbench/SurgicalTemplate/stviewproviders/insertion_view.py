@@ -88,7 +88,7 @@ class InsertionOverlay:
         self.stability_counts = {"contacts": 0, "motions": 0, "press": 0}
         if not on or not stability:
             return
-        sep = coin.SoSeparator()
+        sep = coin.SoAnnotation()  # drawn over the guide: the contacts lie under it, on the bone side
         points = [tuple(float(c) for c in p) for p in stability["contact_points"]]
         if points:
             style = coin.SoDrawStyle()
