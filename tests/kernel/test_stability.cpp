@@ -157,6 +157,21 @@ TEST(Stability, ABoxCornerHoldsEveryMotionButLiftingOff) {
   EXPECT_GE(press.score, r.score - 1e-12);
 }
 
+TEST(Stability, AGuideAroundAWholeBoxCannotMoveAtAll) {
+  // Contacts on all six faces of the box [-10, 0]^3: no motion is free, not even the lift-off; the
+  // score is the top of its scale (nothing moves it) and the report says the bone holds the guide.
+  const TriangleMesh box =
+      joined({box_corner(10.0, 10),
+              test::make_grid_patch(10, -10, 0, -10, 0, [](double u, double v) { return Vec3(-10, v, u); }),
+              test::make_grid_patch(10, -10, 0, -10, 0, [](double u, double v) { return Vec3(u, -10, v); }),
+              test::make_grid_patch(10, -10, 0, -10, 0, [](double u, double v) { return Vec3(v, u, -10); })});
+  const StabilityReport r = analyse_stability(contacts_on(box), -Vec3(1, 1, 1));
+  EXPECT_EQ(r.score, 1.0);
+  EXPECT_FALSE(r.lift_off_free);
+  EXPECT_TRUE(r.free_motions.empty());
+  EXPECT_TRUE(r.worst_motion.blocked) << r.worst_motion.describe();
+}
+
 TEST(Stability, RemovingContactsNeverRaisesTheScore) {
   // A corner with a bulge on one face (so contacts differ in their normals), 500 random subsets.
   const TriangleMesh bump = test::make_grid_patch(20, -10, 0, -10, 0, [](double u, double v) {

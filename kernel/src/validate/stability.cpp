@@ -233,6 +233,7 @@ std::string FreeMotion::describe() const {
 
 FreeMotion describe_twist(const StabilityReport& report, const Twist& x, bool keeps_contact, double tolerance) {
   FreeMotion m;
+  if (x.norm() == 0.0) return m; // no motion: a slide along +z of length 0, kept as the default
   m.twist = x.normalized();
   m.keeps_contact = keeps_contact;
   const Vec3 v = m.twist.head<3>(), w = m.twist.tail<3>() / report.scale;
@@ -305,6 +306,10 @@ StabilityReport analyse_stability(const std::vector<Contact>& contacts, const Ve
                                   const StabilityOptions& options) {
   if (!direction.allFinite() || direction.norm() == 0.0)
     throw InvalidInput("stability: the insertion direction must be finite and non-zero");
+  if (!(options.box > 0.0) || !std::isfinite(options.box)) throw InvalidInput("stability: box must be > 0");
+  for (std::size_t i = 0; i < contacts.size(); ++i)
+    if (!contacts[i].point.allFinite() || !contacts[i].normal.allFinite())
+      throw InvalidInput("stability: contact " + std::to_string(i) + " is not finite");
   StabilityReport report;
   report.direction = direction.normalized();
   report.contacts = contacts.size();
@@ -352,20 +357,22 @@ StabilityReport analyse_stability(const std::vector<Contact>& contacts, const Ve
     }
   }
 
-  // The rest: the section P = F ∩ {lift = 1} within the held space, z the coordinates in it.
+  // The rest: the extreme rays of F within the held space, as the vertices of its section by
+  // {g . y = 1}, g the sum of the contacts' rows there: every free motion outside the linear part
+  // moves some contact off the bone and none into it, so g . y > 0 on F and the section is bounded
+  // (the box only guards against motions held by less than 1 / box). z: coordinates in the section.
   Twist lift_row = Twist::Zero();
   lift_row.head<3>() = -report.direction;
-  const VecX c = held.transpose() * lift_row;
-  std::vector<FreeMotion> rising_free;
-  bool bounded = false, empty = true;
-  std::vector<VecX> extreme;
-  if (held.cols() > 0 && c.norm() > 1e-12) {
-    const VecX y0 = c / c.squaredNorm();
-    const MatX e = null_space(c.transpose()); // held.cols() x m, orthonormal
-    const Eigen::Index dim = e.cols();
-    Polytope p(dim, options.box);
+  std::vector<VecX> rays; // unit, in held coordinates
+  if (held.cols() > 0) {
+    VecX g = VecX::Zero(held.cols());
+    for (const Twist& a : rows) g += held.transpose() * a;
+    g.normalize(); // the section's coordinates of order 1, whatever the number of contacts
+    const VecX y0 = g;
+    const MatX e = null_space(g.transpose()); // held.cols() x (held.cols() - 1), orthonormal
+    Polytope p(e.cols(), options.box);
     std::vector<char> done(rows.size(), 0);
-    empty = false;
+    bool empty = false;
     for (const std::size_t stride : {64U, 16U, 4U, 1U}) {
       for (std::size_t i = 0; i < rows.size() && !empty; i += stride) {
         if (done[i]) continue;
@@ -374,67 +381,72 @@ StabilityReport analyse_stability(const std::vector<Contact>& contacts, const Ve
         const VecX h = e.transpose() * b;
         const double r = -b.dot(y0), hn = h.norm();
         if (hn <= 1e-12) {
-          if (r > 1e-9) empty = true; // a contact blocks every rising motion
+          if (r > 1e-9) empty = true; // this contact blocks the whole section: nothing is free
           continue;
         }
         if (!p.cut(h / hn, r / hn)) empty = true;
       }
     }
-    if (!empty) {
-      bounded = true;
-      for (const VecX& z : p.vertices()) {
-        const bool far = z.size() > 0 && z.cwiseAbs().maxCoeff() >= options.box * (1.0 - 1e-6);
-        if (far) {
-          bounded = false;
-          const Twist dir = held * (e * z).normalized();
-          const bool distinct = std::none_of(rising_free.begin(), rising_free.end(), [&](const FreeMotion& f) {
-            return f.twist.dot(dir) > std::cos(15.0 * M_PI / 180.0);
-          });
-          if (distinct && rising_free.size() < 4) {
-            // Within about 1 / box of the direction P is unbounded along (the box cuts it at a finite width).
-            FreeMotion f = describe_twist(report, dir, false, 10.0 / options.box);
-            f.lift = 0.0;
-            rising_free.push_back(f);
-          }
-        } else {
-          extreme.push_back(y0 + e * z);
-        }
-      }
+    if (!empty)
+      for (const VecX& z : p.vertices()) rays.push_back((y0 + e * z).normalized());
+  }
+  // Rise of each extreme free motion against the press; those that do not rise are free motions too.
+  const VecX c = held.transpose() * lift_row;
+  double least = std::numeric_limits<double>::infinity();
+  VecX worst;
+  std::vector<FreeMotion> level;
+  for (const VecX& y : rays) {
+    const double rise = c.dot(y);
+    report.extreme_motions.push_back(held * y);
+    if (rise < least) least = rise, worst = y;
+    if (rise > 1e-9) continue;
+    const Twist dir = held * y;
+    const bool distinct = std::none_of(level.begin(), level.end(), [&](const FreeMotion& f) {
+      return f.twist.dot(dir) > std::cos(15.0 * M_PI / 180.0);
+    });
+    if (distinct && level.size() < 4) {
+      FreeMotion f = describe_twist(report, dir, false, 10.0 / options.box);
+      f.lift = 0.0;
+      level.push_back(f);
     }
   }
-  report.free_motions.insert(report.free_motions.end(), rising_free.begin(), rising_free.end());
+  report.free_motions.insert(report.free_motions.end(), level.begin(), level.end());
 
   report.lift_off_free =
       std::all_of(rows.begin(), rows.end(), [&](const Twist& a) { return a.dot(lift_row) >= -1e-6; });
   if (report.lift_off_free) report.free_motions.push_back(describe_twist(report, lift_row, false));
 
-  report.bounded = bounded && linear.cols() == 0;
-  if (report.bounded) {
-    double far = 0.0;
-    VecX worst;
-    for (const VecX& y : extreme) {
-      report.extreme_motions.push_back(held * y.normalized());
-      if (y.norm() > far) {
-        far = y.norm();
-        worst = y;
-      }
-    }
-    report.score = std::clamp(1.0 / far, 0.0, 1.0);
-    report.worst_motion = describe_twist(report, held * worst.normalized(), false);
+  // Bounded: every free motion rises against the press (the score is the least rise, > 0).
+  report.bounded = linear.cols() == 0 && !rays.empty() && least > 1e-9;
+  if (linear.cols() == 0 && rays.empty()) {
+    report.score = 1.0; // nothing is free: held in every direction (it cannot come off either)
+    report.worst_motion = describe_twist(report, lift_row, false);
+    report.worst_motion.blocked = true;
+  } else if (report.bounded) {
+    report.score = std::clamp(least, 0.0, 1.0);
+    report.worst_motion = describe_twist(report, held * worst, false);
     if (report.worst_motion.kind != FreeMotion::Kind::lift_off) // listed too: the free motion that rises least
       report.free_motions.insert(report.free_motions.begin(), report.worst_motion);
-  } else if (!report.free_motions.empty()) {
-    report.worst_motion = report.free_motions.front();
   } else {
-    report.worst_motion = describe_twist(report, lift_row, false);
-    report.worst_motion.blocked = !report.lift_off_free;
+    report.score = 0.0;
+    report.worst_motion =
+        report.free_motions.empty() ? describe_twist(report, lift_row, false) : report.free_motions.front();
+    report.worst_motion.blocked = report.free_motions.empty() && !report.lift_off_free;
   }
-  if (empty && linear.cols() == 0) report.score = 0.0;
   return report;
 }
 
+namespace {
+/// A press can hold: there are extreme free motions and no motion keeps every contact (that one would
+/// be free both ways, one of them not rising wherever the push is).
+bool pressable(const StabilityReport& report) {
+  return !report.extreme_motions.empty() && std::none_of(report.free_motions.begin(), report.free_motions.end(),
+                                                         [](const FreeMotion& m) { return m.keeps_contact; });
+}
+} // namespace
+
 double press_score(const StabilityReport& report, const Vec3& point) {
-  if (!report.bounded || report.extreme_motions.empty()) return 0.0;
+  if (!pressable(report)) return 0.0;
   Twist g;
   g.head<3>() = -report.direction;
   g.tail<3>() = -(point - report.centroid).cross(report.direction) / report.scale;
@@ -461,7 +473,7 @@ PressPoint best_press_point(const StabilityReport& report, const std::vector<Vec
   }
   std::sort(rises.begin(), rises.end(), [](const Rise& a, const Rise& b) { return a.lowest < b.lowest; });
   auto score_at = [&](const Vec3& p) {
-    if (!report.bounded || rises.empty()) return 0.0;
+    if (!pressable(report)) return 0.0;
     double score = 1.0;
     for (const Rise& r : rises) {
       if (r.lowest >= score) break;
@@ -470,13 +482,19 @@ PressPoint best_press_point(const StabilityReport& report, const std::vector<Vec
     return std::max(score, 0.0);
   };
   if (candidates.empty()) return {report.centroid, score_at(report.centroid)};
-  PressPoint best{candidates.front(), -1.0};
+  // The best score, then among the candidates within 1e-3 of it the nearest to the line through the
+  // centroid along the direction.
+  std::vector<double> scores;
+  double top = 0.0;
+  for (const Vec3& p : candidates) top = std::max(top, scores.emplace_back(score_at(p)));
+  PressPoint best{candidates.front(), scores.front()};
   double best_off = std::numeric_limits<double>::infinity();
-  for (const Vec3& p : candidates) {
-    const Vec3 r = p - report.centroid;
-    const double score = score_at(p), off = (r - r.dot(report.direction) * report.direction).norm();
-    if (score > best.score + 1e-3 || (score >= best.score - 1e-3 && off < best_off)) {
-      best = {p, score};
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (scores[i] < top - 1e-3) continue;
+    const Vec3 r = candidates[i] - report.centroid;
+    const double off = (r - r.dot(report.direction) * report.direction).norm();
+    if (off < best_off) {
+      best = {candidates[i], scores[i]};
       best_off = off;
     }
   }
@@ -509,7 +527,8 @@ ExtensionHint where_to_extend(const StabilityReport& report, const FreeMotion& m
     if (!cp || cp->distance <= on_region) continue; // on the covered bone, or too far
     const Vec3 u = v + w.cross(p - report.centroid);
     if (u.norm() < 1e-12) continue;
-    const double facing = -normals[i].normalized().dot(u.normalized());
+    double facing = -normals[i].normalized().dot(u.normalized());
+    if (motion.keeps_contact) facing = std::abs(facing); // free both ways: bone facing either way holds one
     if (facing < 0.5) continue;
     const double value = facing - 0.5 * cp->distance / reach;
     if (value <= best) continue;
@@ -536,7 +555,7 @@ StabilityResult guide_stability(const TriangleMesh& inner, const AabbTree& bone,
   out.contacts = sample_contacts(inner, bone, reach, 1.0, skip, toward_bone);
   out.report = analyse_stability(out.contacts, direction);
   std::vector<Vec3> candidates;
-  const std::size_t step = std::max<std::size_t>(1, press_candidates.size() / 1000);
+  const std::size_t step = std::max<std::size_t>(1, (press_candidates.size() + 999) / 1000);
   for (std::size_t i = 0; i < press_candidates.size(); i += step) candidates.push_back(press_candidates[i]);
   out.press = best_press_point(out.report, candidates);
   if (out.report.score < 0.5 && !out.report.free_motions.empty())

@@ -17,20 +17,22 @@
 // Score. The guide is pressed along the insertion direction d through c. A free motion x rises
 // against the press by lift(x) = -d . v. The score is the least rise of a unit free motion:
 //     score = min { lift(x) : x in F, |x| = 1 }, clamped to [0, 1],
-// 0 when some free motion does not rise against the press (a slide, a turn, a slide away from a cap),
-// 1 when the only free motion is the lift-off along -d itself. Dually it is the radius of the largest
-// ball of wrenches (force, torque / l) around the press that the contact forces (n_i, r_i x n_i)
-// balance: the largest disturbing force or torque, relative to the press, held in its worst
-// direction. Monotone: adding a contact shrinks F, so the score never falls; removing one never
-// raises it.
+// 0 when some free motion does not rise against the press (a slide, a turn, a slide away from a cap,
+// a drop deeper along d), 1 when the only free motion is the lift-off along -d itself (and when
+// nothing at all is free: F = {0}). Dually it is the radius of the largest ball of wrenches (force,
+// torque / l) around the press that the contact forces (n_i, r_i x n_i) balance: the largest
+// disturbing force or torque, relative to the press, held in its worst direction. Monotone: adding a
+// contact shrinks F, so the score never falls; removing one never raises it (for a fixed c and l).
 //
 // Computation (analyse_stability). The linear part is the null space of sum a_i a_i^T (eigenvalues
-// below 1e-9 of the contacts' count). On its complement the section P = F ∩ {lift = 1} is a
-// polytope of at most 5 dimensions when the score is not 0; its vertices, found by cutting a box of
-// half-width 1e4 by the contacts' half-spaces one at a time (double description, adjacency by rank),
-// are the extreme free motions, and score = 1 / max |y| over them. A vertex on the box is a free
-// motion that does not rise (P is unbounded along it). Where to press: the outer point at which a
-// push along d gives the highest score over the same extreme motions.
+// below 1e-9: absolute, so that fewer contacts never free less). On its complement every free motion
+// moves some contact off the bone and none into it, so g . x > 0 there with g = sum a_i, and the
+// section of F by {g . x = 1} is a polytope of at most 5 dimensions. Its vertices, the extreme free
+// motions, are found by cutting a box of half-width 1e4 (a guard: a motion held by less than 1e-4
+// reads as free) by the contacts' half-spaces one at a time (double description, adjacency by
+// rank); the minimum of a linear function over the unit vectors of a convex cone, where it is not
+// negative, lies on an extreme ray, so score = min over them of lift(r) / |r|. Where to press: the
+// outer point at which a push along d gives the highest score over the same extreme motions.
 
 #include "st/core/aabb_tree.h"
 #include "st/core/mesh.h"
@@ -69,7 +71,7 @@ struct FreeMotion {
 struct StabilityOptions {
   std::optional<Vec3> centroid; ///< the point the press goes through and turns are about; else the contacts' centroid
   double scale = 0.0;           ///< l, mm; 0: the contacts' RMS distance from the centroid
-  double box = 1e4;             ///< half-width of the box P is cut from; a score below 1 / box reads as 0
+  double box = 1e4;             ///< half-width of the box the section is cut from (> 0)
 };
 
 struct StabilityReport {
@@ -107,7 +109,7 @@ StabilityReport analyse_stability(const std::vector<Contact>& contacts, const Ve
                                   const StabilityOptions& options = {});
 
 /// The score when the push along the report's direction is applied at `point` instead of through the
-/// centroid (the report's extreme motions; 0 when P is unbounded).
+/// centroid (over the report's extreme motions; 0 when a motion keeps every contact).
 double press_score(const StabilityReport& report, const Vec3& point);
 
 /// The twist x = (v, l w) of the report's frame as a free motion (kind, axis, pitch, lift); a turn
