@@ -255,10 +255,12 @@ FreeMotion describe_twist(const StabilityReport& report, const Twist& x, bool ke
 }
 
 std::vector<Contact> sample_contacts(const TriangleMesh& inner, const AabbTree& bone, double reach, double spacing,
-                                     const std::vector<std::uint8_t>& skip, bool toward_bone) {
+                                     const std::vector<std::uint8_t>& skip, bool toward_bone,
+                                     const std::vector<Vec3>* bone_normals) {
   if (!(spacing > 0.0) || !std::isfinite(spacing)) throw InvalidInput("contacts: spacing must be > 0");
   std::vector<Contact> contacts;
-  const std::vector<Vec3> bone_normals = vertex_normals(bone.mesh());
+  const std::vector<Vec3> own = bone_normals ? std::vector<Vec3>{} : vertex_normals(bone.mesh());
+  const std::vector<Vec3>& normals_of_bone = bone_normals ? *bone_normals : own;
   const double per_area = 1.0 / (spacing * spacing);
   double running = 0.0;
   std::size_t n = 0; // samples so far: the pattern's index
@@ -290,7 +292,8 @@ std::vector<Contact> sample_contacts(const TriangleMesh& inner, const AabbTree& 
       if (const double f2 = face.squaredNorm(); f2 > 0.0) { // barycentric weights of the closest point
         const Vec3 q = cp->point;
         const double w0 = (b1 - q).cross(b2 - q).dot(face) / f2, w1 = (b2 - q).cross(b0 - q).dot(face) / f2;
-        const Vec3 smooth = w0 * bone_normals[bt[0]] + w1 * bone_normals[bt[1]] + (1.0 - w0 - w1) * bone_normals[bt[2]];
+        const Vec3 smooth =
+            w0 * normals_of_bone[bt[0]] + w1 * normals_of_bone[bt[1]] + (1.0 - w0 - w1) * normals_of_bone[bt[2]];
         if (smooth.dot(face) > 0.0) nb = smooth;
       }
       if (nb.norm() == 0.0) nb = normal;
@@ -510,7 +513,8 @@ std::string ExtensionHint::describe() const {
 }
 
 ExtensionHint where_to_extend(const StabilityReport& report, const FreeMotion& motion, const std::vector<Vec3>& rim,
-                              const TriangleMesh& bone, const AabbTree& region, double reach, double on_region) {
+                              const TriangleMesh& bone, const AabbTree& region, double reach, double on_region,
+                              const std::vector<Vec3>* bone_normals) {
   ExtensionHint hint;
   if (rim.empty() || bone.empty()) return hint;
   BoundingBox box;
@@ -518,7 +522,8 @@ ExtensionHint where_to_extend(const StabilityReport& report, const FreeMotion& m
   box.min -= Vec3::Constant(reach);
   box.max += Vec3::Constant(reach);
   const Vec3 v = motion.twist.head<3>(), w = motion.twist.tail<3>() / report.scale;
-  const std::vector<Vec3> normals = vertex_normals(bone);
+  const std::vector<Vec3> own = bone_normals ? std::vector<Vec3>{} : vertex_normals(bone);
+  const std::vector<Vec3>& normals = bone_normals ? *bone_normals : own;
   double best = -std::numeric_limits<double>::infinity();
   for (Index i = 0; i < bone.vertex_count(); ++i) {
     const Vec3& p = bone.positions[i];
@@ -552,14 +557,16 @@ StabilityResult guide_stability(const TriangleMesh& inner, const AabbTree& bone,
                                 bool toward_bone) {
   StabilityResult out;
   out.analysed = true;
-  out.contacts = sample_contacts(inner, bone, reach, 1.0, skip, toward_bone);
+  const std::vector<Vec3> normals = vertex_normals(bone.mesh()); // once, for the contacts and the hint
+  out.contacts = sample_contacts(inner, bone, reach, 1.0, skip, toward_bone, &normals);
   out.report = analyse_stability(out.contacts, direction);
   std::vector<Vec3> candidates;
   const std::size_t step = std::max<std::size_t>(1, (press_candidates.size() + 999) / 1000);
   for (std::size_t i = 0; i < press_candidates.size(); i += step) candidates.push_back(press_candidates[i]);
   out.press = best_press_point(out.report, candidates);
   if (out.report.score < 0.5 && !out.report.free_motions.empty())
-    out.extend = where_to_extend(out.report, out.report.worst_motion, rim, bone.mesh(), covered, 15.0, on_covered);
+    out.extend =
+        where_to_extend(out.report, out.report.worst_motion, rim, bone.mesh(), covered, 15.0, on_covered, &normals);
   return out;
 }
 

@@ -26,11 +26,12 @@ def thickness_colour(distance, thickness, clearance=0.0, tolerance=0.01):
     return stops[-1][1]
 
 
-def stability(template, bone, direction):
+def stability(template, bone, direction, arrays=None):
     """Will the guide stay put: the kernel's analyse_stability of the template's inner surface (its
     first InnerFaces facets) on the bone arrays `bone`, pressed along `direction`; the press point among
-    the template's other vertices."""
-    V, F = st_bridge.mesh_to_arrays(template.Mesh)
+    the template's other vertices. `arrays`: the template's mesh as (vertices, triangles) when the
+    caller has read it already."""
+    V, F = arrays if arrays is not None else st_bridge.mesh_to_arrays(template.Mesh)
     n = int(template.InnerFaces)
     if n <= 0 or n > len(F):
         return None
@@ -82,7 +83,7 @@ def inspect(obj, show=True, tolerance=0.01):
             r["summary"] += f"; meets the bone coming off near ({p[0]:.2f}, {p[1]:.2f}, {p[2]:.2f})"
         else:
             r["summary"] += "; comes off along its insertion direction"
-    r["stability"] = stability(shell, bone, d) if d.Length > 0 else None
+    r["stability"] = stability(shell, bone, d, (V, F) if shell is obj else None) if d.Length > 0 else None
     if r["stability"]:
         r["summary"] += f"; stability score {r['stability']['score']:.2f}"
     d = r.pop("vertex_distance")

@@ -97,10 +97,11 @@ struct StabilityReport {
 /// bone, not held by the facets' edges. Faces with
 /// `skip[f]` set are left out (skip may be empty).
 /// `toward_bone`: the inner faces' normals point into the bone (a closed guide's own facets), not
-/// away from it (the designed inner surface, oriented as the bone).
+/// away from it (the designed inner surface, oriented as the bone). `bone_normals`: the bone's
+/// vertex_normals() when the caller has them (else computed here).
 std::vector<Contact> sample_contacts(const TriangleMesh& inner, const AabbTree& bone, double reach,
                                      double spacing = 1.0, const std::vector<std::uint8_t>& skip = {},
-                                     bool toward_bone = false);
+                                     bool toward_bone = false, const std::vector<Vec3>* bone_normals = nullptr);
 
 /// The free motions and score of `contacts` pressed along `direction` (the insertion direction, onto
 /// the bone; need not be unit). Throws InvalidInput for a zero direction. No contacts: every motion
@@ -136,10 +137,11 @@ struct ExtensionHint {
   double facing = 0.0; ///< cosine between the bone's inward normal and the motion there
   [[nodiscard]] std::string describe() const;
 };
-/// `on_region`: bone closer than this to `region` counts as covered.
+/// `on_region`: bone closer than this to `region` counts as covered; `bone_normals` as for
+/// sample_contacts.
 ExtensionHint where_to_extend(const StabilityReport& report, const FreeMotion& motion, const std::vector<Vec3>& rim,
                               const TriangleMesh& bone, const AabbTree& region, double reach = 15.0,
-                              double on_region = 0.05);
+                              double on_region = 0.05, const std::vector<Vec3>* bone_normals = nullptr);
 
 /// Will a guide stay put: the whole analysis of one guide.
 struct StabilityResult {
