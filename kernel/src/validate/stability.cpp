@@ -1,6 +1,7 @@
 #include "st/validate/stability.h"
 
 #include "detail/format.h"
+#include "validate/polytope.h"
 #include "st/core/errors.h"
 
 #include <Eigen/Eigenvalues>
@@ -40,166 +41,6 @@ MatX null_space(const MatX& m, double threshold = 1e-9) {
   while (rank < s.size() && s(rank) > threshold * std::max(top, 1.0)) ++rank;
   return svd.matrixV().rightCols(n - rank);
 }
-
-/// Vertex enumeration of {z in R^m : h_j . z >= r_j} (m <= 5) inside the box |z_k| <= B, by cutting
-/// the box with one half-space at a time (double description; two vertices are adjacent when the
-/// constraints tight at both have rank m - 1). Coordinates beyond m are 0.
-class Polytope {
-public:
-  using Vec5 = Eigen::Matrix<double, 5, 1>;
-
-  Polytope(Eigen::Index m, double box) : m_(m) {
-    for (Eigen::Index k = 0; k < m; ++k) {
-      rows_.push_back(Vec5::Unit(k));  // z_k >= -B
-      rows_.push_back(-Vec5::Unit(k)); // z_k <= B
-    }
-    const std::size_t corners = std::size_t{1} << m;
-    for (std::size_t bits = 0; bits < corners; ++bits) {
-      Vec5 z = Vec5::Zero();
-      std::vector<int> tight;
-      for (Eigen::Index k = 0; k < m; ++k) {
-        const bool high = (bits >> k) & 1U;
-        z(k) = high ? box : -box;
-        tight.push_back(static_cast<int>(2 * k + (high ? 1 : 0)));
-      }
-      vertices_.emplace_back(z, std::move(tight));
-    }
-  }
-
-  /// Cuts by h . z >= r (h unit, m coordinates). Returns false when nothing is left.
-  bool cut(const VecX& h_m, double r) {
-    Vec5 h = Vec5::Zero();
-    h.head(m_) = h_m;
-    s_.resize(vertices_.size());
-    bool any_out = false, any_in = false;
-    for (std::size_t i = 0; i < vertices_.size(); ++i) {
-      s_[i] = h.dot(vertices_[i].z) - r;
-      (s_[i] < -tolerance(vertices_[i]) ? any_out : any_in) = true;
-    }
-    if (!any_out) return true; // redundant: it never cuts later either (the polytope only shrinks)
-    if (!any_in) {
-      vertices_.clear();
-      return false;
-    }
-    rows_.push_back(h);
-    const int id = static_cast<int>(rows_.size()) - 1;
-    std::vector<std::size_t> inside, outside;
-    for (std::size_t i = 0; i < vertices_.size(); ++i) {
-      const double eps = tolerance(vertices_[i]);
-      if (s_[i] < -eps) outside.push_back(i);
-      else if (s_[i] <= eps) vertices_[i].tight.push_back(id); // on the new hyperplane: kept, no edge to cut
-      else inside.push_back(i);
-    }
-    // Candidates for adjacency share at least m - 1 tight constraints: count them through an index
-    // from each constraint to the inside vertices tight at it.
-    if (at_.size() < rows_.size()) at_.resize(rows_.size());
-    for (std::uint32_t k = 0; k < inside.size(); ++k)
-      for (const int c : vertices_[inside[k]].tight) at_[static_cast<std::size_t>(c)].push_back(k);
-    std::vector<int> shared(inside.size(), 0), common;
-    std::vector<std::uint32_t> touched;
-    std::vector<Vertex> fresh;
-    for (const std::size_t q : outside) {
-      touched.clear();
-      if (m_ <= 1) // a segment: its two ends are adjacent, nothing need be shared
-        for (std::uint32_t k = 0; k < inside.size(); ++k) touched.push_back(k);
-      for (const int c : vertices_[q].tight)
-        for (const std::uint32_t k : at_[static_cast<std::size_t>(c)])
-          if (shared[k]++ == 0 && m_ > 1) touched.push_back(k);
-      for (const std::uint32_t k : touched) {
-        const bool enough = m_ <= 1 || shared[k] >= m_ - 1;
-        shared[k] = 0;
-        if (!enough) continue;
-        const std::size_t p = inside[k];
-        common.clear();
-        std::set_intersection(vertices_[p].tight.begin(), vertices_[p].tight.end(), vertices_[q].tight.begin(),
-                              vertices_[q].tight.end(), std::back_inserter(common));
-        if (!adjacent(common)) continue;
-        const double t = s_[p] / (s_[p] - s_[q]);
-        Vertex v{vertices_[p].z + t * (vertices_[q].z - vertices_[p].z), common};
-        v.tight.push_back(id);
-        fresh.push_back(std::move(v));
-      }
-    }
-    for (std::uint32_t k = 0; k < inside.size(); ++k)
-      for (const int c : vertices_[inside[k]].tight) at_[static_cast<std::size_t>(c)].clear();
-    // Drop the cut-off vertices in place (the kept ones are not copied), then add the new ones.
-    std::size_t w = 0;
-    for (std::size_t i = 0, o = 0; i < vertices_.size(); ++i) {
-      if (o < outside.size() && outside[o] == i) {
-        ++o;
-        continue;
-      }
-      if (w != i) vertices_[w] = std::move(vertices_[i]);
-      ++w;
-    }
-    vertices_.resize(w);
-    add_merged(std::move(fresh));
-    return !vertices_.empty();
-  }
-
-  [[nodiscard]] std::vector<VecX> vertices() const {
-    std::vector<VecX> out;
-    for (const Vertex& v : vertices_) out.emplace_back(v.z.head(m_));
-    return out;
-  }
-
-private:
-  struct Vertex {
-    Vertex() = default;
-    Vertex(const Vec5& at, std::vector<int> t) : z(at), tight(std::move(t)), eps(1e-7 * (1.0 + at.norm())) {}
-    Vec5 z = Vec5::Zero();
-    std::vector<int> tight; // sorted ids of the constraints tight at it (the new one last)
-    double eps = 0.0;       // tolerance(): closer to a hyperplane than this, the vertex lies on it
-  };
-  /// Closer to a hyperplane than this, a vertex lies on it: no facet thinner than this is made, so no
-  /// cluster of vertices a rounding apart (which the rank test would take for adjacent) forms.
-  [[nodiscard]] static double tolerance(const Vertex& v) { return v.eps; }
-
-  /// Adds the new vertices, those that coincide within the tolerance as one (their tight sets joined).
-  void add_merged(std::vector<Vertex> fresh) {
-    std::sort(fresh.begin(), fresh.end(), [](const Vertex& a, const Vertex& b) { return a.z(0) < b.z(0); });
-    std::vector<char> gone(fresh.size(), 0);
-    for (std::size_t i = 0; i < fresh.size(); ++i) {
-      if (gone[i]) continue;
-      const double tol = tolerance(fresh[i]);
-      bool joined = false;
-      for (std::size_t j = i + 1; j < fresh.size() && fresh[j].z(0) - fresh[i].z(0) <= tol; ++j)
-        if (!gone[j] && (fresh[j].z - fresh[i].z).norm() <= tol) {
-          gone[j] = 1;
-          joined = true;
-          fresh[i].tight.insert(fresh[i].tight.end(), fresh[j].tight.begin(), fresh[j].tight.end());
-        }
-      if (joined) {
-        std::sort(fresh[i].tight.begin(), fresh[i].tight.end());
-        fresh[i].tight.erase(std::unique(fresh[i].tight.begin(), fresh[i].tight.end()), fresh[i].tight.end());
-      }
-      vertices_.push_back(std::move(fresh[i]));
-    }
-  }
-  /// Whether the rows `common` have rank m - 1 (Gram-Schmidt twice over the unit rows, a row counting
-  /// when more than 1e-9 of it is left).
-  [[nodiscard]] bool adjacent(const std::vector<int>& common) const {
-    if (m_ <= 1) return true;
-    std::array<Vec5, 5> basis;
-    Eigen::Index rank = 0;
-    for (const int c : common) {
-      Vec5 r = rows_[static_cast<std::size_t>(c)];
-      for (int pass = 0; pass < 2; ++pass)
-        for (Eigen::Index k = 0; k < rank; ++k)
-          r -= r.dot(basis[static_cast<std::size_t>(k)]) * basis[static_cast<std::size_t>(k)];
-      if (r.norm() <= 1e-9) continue;
-      if (rank == m_ - 1) return false; // rank m: a single point, not an edge
-      basis[static_cast<std::size_t>(rank++)] = r.normalized();
-    }
-    return rank == m_ - 1;
-  }
-
-  Eigen::Index m_;
-  std::vector<Vec5> rows_;
-  std::vector<Vertex> vertices_;
-  std::vector<double> s_;
-  std::vector<std::vector<std::uint32_t>> at_;
-};
 
 Twist contact_row(const Contact& c, const Vec3& centroid, double scale) {
   Twist a;
@@ -373,7 +214,7 @@ StabilityReport analyse_stability(const std::vector<Contact>& contacts, const Ve
     g.normalize(); // the section's coordinates of order 1, whatever the number of contacts
     const VecX y0 = g;
     const MatX e = null_space(g.transpose()); // held.cols() x (held.cols() - 1), orthonormal
-    Polytope p(e.cols(), options.box);
+    stability_detail::Polytope p(e.cols(), options.box);
     std::vector<char> done(rows.size(), 0);
     bool empty = false;
     for (const std::size_t stride : {64U, 16U, 4U, 1U}) {
@@ -475,21 +316,28 @@ PressPoint best_press_point(const StabilityReport& report, const std::vector<Vec
     rises.push_back({alpha, beta, alpha - beta.norm() * reach});
   }
   std::sort(rises.begin(), rises.end(), [](const Rise& a, const Rise& b) { return a.lowest < b.lowest; });
-  auto score_at = [&](const Vec3& p) {
+  // The score at p; below `floor` it stops early (and returns what it has, below floor).
+  auto score_at = [&](const Vec3& p, double floor = -1.0) {
     if (!pressable(report)) return 0.0;
     double score = 1.0;
     for (const Rise& r : rises) {
-      if (r.lowest >= score) break;
+      if (r.lowest >= score || score < floor) break;
       score = std::min(score, r.alpha + r.beta.dot(p - report.centroid));
     }
     return std::max(score, 0.0);
   };
   if (candidates.empty()) return {report.centroid, score_at(report.centroid)};
   // The best score, then among the candidates within 1e-3 of it the nearest to the line through the
-  // centroid along the direction.
-  std::vector<double> scores;
+  // centroid along the direction. A candidate already below the best so far less 1e-3 is out whatever
+  // its exact score: every 16th is scored first, so that the best so far is high early.
+  std::vector<double> scores(candidates.size(), -1.0);
   double top = 0.0;
-  for (const Vec3& p : candidates) top = std::max(top, scores.emplace_back(score_at(p)));
+  for (const std::size_t start : {0U, 1U})
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      if ((i % 16 == 0) != (start == 0)) continue;
+      scores[i] = score_at(candidates[i], top - 1e-3);
+      top = std::max(top, scores[i]);
+    }
   PressPoint best{candidates.front(), scores.front()};
   double best_off = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < candidates.size(); ++i) {
