@@ -102,7 +102,7 @@ void bind_template(py::module_& m) {
       [](const Points& v, const Faces& f, const Points& boundary_points, double thickness, double clearance,
          double resolution, int sampling_step, const py::object& inside, double max_snap_distance, bool check,
          bool simplify_outer, const py::object& tubes, double tube_tolerance, bool fit, const py::object& insertion,
-         const py::object& block_out) {
+         const py::object& block_out, const py::object& slots) {
         const TriangleMesh bone = to_mesh(v, f, "bone");
         TemplateOptions o;
         o.boundary_points = to_points(boundary_points, "boundary_points");
@@ -116,6 +116,7 @@ void bind_template(py::module_& m) {
         o.measure_fit = fit;
         o.simplify_outer = simplify_outer;
         o.tubes = to_tubes(tubes);
+        o.slots = to_slots(slots);
         o.tube_tolerance = tube_tolerance;
         o.analyse_insertion = !insertion.is_none();
         o.insertion = to_insertion(insertion).second;
@@ -151,8 +152,11 @@ void bind_template(py::module_& m) {
       py::arg("inside") = py::none(), py::arg("max_snap_distance") = tol::kMaxSnapDistance_mm, py::arg("check") = true,
       py::arg("simplify_outer") = false, py::arg("tubes") = py::none(), py::arg("tube_tolerance") = 0.01,
       py::arg("fit") = true, py::arg("insertion") = py::none(), py::arg("block_out") = py::none(),
+      py::arg("slots") = py::none(),
       "Designs the template (closed shell) on a bone mesh, with its drilling tubes (dicts with the case file's "
-      "tube keys) merged and bored. Returns a dict with 'shell' (the guide), 'body' (before the tubes; its first "
+      "tube keys) merged and bored, and its saw slots (dicts with the case file's slot keys: housing merged, "
+      "slot cut; 'slots' in the result: placements with 'blade_path_free'). Returns a dict with 'shell' (the guide), "
+      "'body' (before the tubes; its first "
       "'inner_faces' faces are the inner surface), 'inner', 'outer' (each (vertices, triangles)), 'from_tube' "
       "(per shell face), 'tubes' (placements), 'curve', and the report's 'counts', 'times' (s), 'boolean', 'solid' and "
       "(with fit=True) 'fit' (the keys of the tool's --report, st/io/report.h). insertion='auto' or a direction "

@@ -99,12 +99,13 @@ inline std::optional<Vec3> to_optional_point(const py::object& o, const std::str
   return pts[0];
 }
 
-/// A tube from a dict (or any mapping) with the case file's keys; `where` names it in errors.
-inline TubeSpec to_tube(const py::handle& item, const std::string& where) {
-  if (!py::isinstance<py::dict>(item)) throw InvalidInput(where + ": expected a dict with the case file's tube keys");
-  const py::dict d = py::reinterpret_borrow<py::dict>(item);
-  auto number = [&](const char* key, std::optional<double> fallback) {
-    if (!d.contains(key)) {
+/// Typed reads from a dict of the case file's keys; `where` names it in errors.
+struct DictFields {
+  const py::dict& d;
+  const std::string& where;
+  /// The number at `key`, or `fallback` when it is missing (or None); InvalidInput without a fallback.
+  [[nodiscard]] double number(const char* key, std::optional<double> fallback) const {
+    if (!d.contains(key) || d[key].is_none()) {
       if (fallback) return *fallback;
       throw InvalidInput(where + ": missing '" + key + "'");
     }
@@ -113,13 +114,22 @@ inline TubeSpec to_tube(const py::handle& item, const std::string& where) {
     } catch (const py::cast_error&) {
       throw InvalidInput(where + ": '" + key + "' must be a number");
     }
-  };
-  auto point = [&](const char* key) {
+  }
+  [[nodiscard]] Vec3 point(const char* key) const {
     if (!d.contains(key)) throw InvalidInput(where + ": missing '" + key + "'");
     const auto p = to_optional_point(py::reinterpret_borrow<py::object>(d[key]), where + "." + key);
     if (!p) throw InvalidInput(where + ": '" + key + "' must be a point, not None");
     return *p;
-  };
+  }
+};
+
+/// A tube from a dict (or any mapping) with the case file's keys; `where` names it in errors.
+inline TubeSpec to_tube(const py::handle& item, const std::string& where) {
+  if (!py::isinstance<py::dict>(item)) throw InvalidInput(where + ": expected a dict with the case file's tube keys");
+  const py::dict d = py::reinterpret_borrow<py::dict>(item);
+  const DictFields fields{d, where};
+  auto number = [&](const char* key, std::optional<double> fallback) { return fields.number(key, fallback); };
+  auto point = [&](const char* key) { return fields.point(key); };
   TubeSpec t;
   t.name = d.contains("name") ? py::str(d["name"]).cast<std::string>() : where;
   t.entry = point("entry");
@@ -139,6 +149,65 @@ inline std::vector<TubeSpec> to_tubes(const py::object& list) {
   std::size_t i = 0;
   for (const py::handle item : list) out.push_back(to_tube(item, "tubes[" + std::to_string(i++) + "]"));
   return out;
+}
+
+/// A saw slot from a dict with the case file's slot keys (docs/CASE-FORMAT.md); `where` names it in errors.
+inline SlotSpec to_slot(const py::handle& item, const std::string& where) {
+  if (!py::isinstance<py::dict>(item)) throw InvalidInput(where + ": expected a dict with the case file's slot keys");
+  const py::dict d = py::reinterpret_borrow<py::dict>(item);
+  const DictFields fields{d, where};
+  auto number = [&](const char* key, std::optional<double> fallback) { return fields.number(key, fallback); };
+  auto point = [&](const char* key) { return fields.point(key); };
+  SlotSpec s;
+  s.name = d.contains("name") ? py::str(d["name"]).cast<std::string>() : where;
+  s.origin = point("origin");
+  s.normal = point("normal");
+  s.direction = point("direction");
+  s.blade = number("blade", std::nullopt);
+  s.length = number("length", std::nullopt);
+  s.clearance = number("clearance", 0.1);
+  s.height = number("height", 5.0);
+  s.wall = number("wall", 3.0);
+  if (d.contains("closed") && !d["closed"].is_none()) {
+    s.closed_start = s.closed_end = false;
+    for (const py::handle end : d["closed"]) {
+      const std::string which = py::str(end).cast<std::string>();
+      if (which == "start") s.closed_start = true;
+      else if (which == "end") s.closed_end = true;
+      else throw InvalidInput(where + ": 'closed' must hold \"start\" and \"end\" only, got \"" + which + "\"");
+    }
+  }
+  if (const auto problem = slot_problem(s)) throw InvalidInput(where + "." + problem->key + ": " + problem->reason);
+  const SlotFrame f = slot_frame(s);
+  s.normal = f.n;
+  s.direction = f.d;
+  return s;
+}
+
+inline std::vector<SlotSpec> to_slots(const py::object& list) {
+  std::vector<SlotSpec> out;
+  if (list.is_none()) return out;
+  std::size_t i = 0;
+  for (const py::handle item : list) out.push_back(to_slot(item, "slots[" + std::to_string(i++) + "]"));
+  return out;
+}
+
+inline py::dict slot_dict(const SlotSpec& s) {
+  py::dict d;
+  d["name"] = s.name;
+  d["origin"] = from_points({s.origin}).attr("reshape")(3);
+  d["normal"] = from_points({s.normal}).attr("reshape")(3);
+  d["direction"] = from_points({s.direction}).attr("reshape")(3);
+  d["blade"] = s.blade;
+  d["clearance"] = s.clearance;
+  d["length"] = s.length;
+  d["height"] = s.height;
+  d["wall"] = s.wall;
+  py::list closed;
+  if (s.closed_start) closed.append("start");
+  if (s.closed_end) closed.append("end");
+  d["closed"] = closed;
+  return d;
 }
 
 inline py::dict tube_dict(const TubeSpec& t) {
@@ -187,6 +256,9 @@ inline py::dict case_dict(const CaseFile& c) {
   py::list tubes;
   for (const TubeSpec& t : c.tubes) tubes.append(tube_dict(t));
   d["tubes"] = tubes;
+  py::list slots;
+  for (const SlotSpec& s : c.slots) slots.append(slot_dict(s));
+  d["slots"] = slots;
   d["output"] = optional(c.output);
   d["warnings"] = c.warnings;
   return d;
@@ -210,6 +282,7 @@ inline CaseFile to_case(const py::dict& d) {
   if (has("sampling_step")) c.sampling_step = d["sampling_step"].cast<int>();
   if (has("insertion")) std::tie(c.insertion_auto, c.insertion) = to_insertion(d["insertion"]);
   if (has("tubes")) c.tubes = to_tubes(d["tubes"]);
+  if (has("slots")) c.slots = to_slots(d["slots"]);
   if (has("output")) c.output = py::str(d["output"]).cast<std::string>();
   return c;
 }

@@ -227,7 +227,18 @@ int design(int argc, char** argv) {
               r.fit.inner_to_bone.max, r.fit.outer_to_inner.min, r.fit.outer_to_inner.max, r.fit.rim_to_curve.max);
   std::printf("  times (s): inner %.3f  offset %.3f  outer points %.3f  outer cut %.3f  connection %.3f  total %.3f\n",
               t.inner_segmentation, t.offset, t.outer_points, t.outer_segmentation, t.connection, t.total);
-  if (!r.tubes.empty()) std::printf("  %zu drilling tube(s) merged and bored in %.3f s\n", r.tubes.size(), t.boolean);
+  if (!r.tubes.empty() || !r.slots.empty())
+    std::printf("  %zu drilling tube(s) and %zu saw slot(s) merged and cut in %.3f s\n", r.tubes.size(), r.slots.size(),
+                t.boolean);
+  for (std::size_t i = 0; i < r.slots.size(); ++i) {
+    const st::SlotPlacement& p = r.slots[i];
+    const bool free = i < r.blade_paths.size() && r.blade_paths[i].free;
+    std::printf("    slot '%s': %.2f mm wide, %.1f mm long, housing %.1f mm over the template; blade path %s\n",
+                p.name.c_str(), p.width, o.slots[i].length, p.housing_top - p.template_top,
+                free ? "free" : "not checked");
+    for (const std::string& m : p.meets)
+      std::fprintf(stderr, "warning: %s: slot '%s' meets %s\n", c.name.c_str(), p.name.c_str(), m.c_str());
+  }
   if (const st::InsertionReport& ins = r.insertion; ins.analysed) {
     std::printf("  insertion: along (%.3f, %.3f, %.3f)%s; undercut %.1f of %.1f mm^2 in %.3f s\n", ins.direction.x(),
                 ins.direction.y(), ins.direction.z(), ins.automatic ? ", the least-undercut direction" : "",

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <numbers>
 #include <map>
 #include <string>
 
@@ -120,6 +121,19 @@ inline double deepest_in_bone(const TriangleMesh& guide, const std::vector<std::
     }
   }
   return deepest;
+}
+
+/// Generalised winding number: 1 inside a closed outward mesh, 0 outside.
+inline double winding_number(const TriangleMesh& mesh, const Vec3& p) {
+  double sum = 0.0;
+  for (const Triangle& t : mesh.triangles) {
+    const Vec3 a = mesh.positions[t[0]] - p, b = mesh.positions[t[1]] - p, c = mesh.positions[t[2]] - p;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    const double num = a.dot(b.cross(c));
+    const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+    sum += 2.0 * std::atan2(num, den);
+  }
+  return sum / (4.0 * std::numbers::pi);
 }
 
 inline void expect_valid_solid(const TriangleMesh& mesh) {

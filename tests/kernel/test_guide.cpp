@@ -36,18 +36,7 @@ TubeSpec make_tube(const std::string& name, const Vec3& entry, const Vec3& direc
   return t;
 }
 
-// Generalised winding number: 1 inside a closed outward mesh, 0 outside.
-double winding_number(const TriangleMesh& mesh, const Vec3& p) {
-  double sum = 0.0;
-  for (const Triangle& t : mesh.triangles) {
-    const Vec3 a = mesh.positions[t[0]] - p, b = mesh.positions[t[1]] - p, c = mesh.positions[t[2]] - p;
-    const double la = a.norm(), lb = b.norm(), lc = c.norm();
-    const double num = a.dot(b.cross(c));
-    const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-    sum += 2.0 * std::atan2(num, den);
-  }
-  return sum / (4.0 * std::numbers::pi);
-}
+using test::winding_number;
 
 // Depth of p inside the bone (0 outside): distance to the closest bone face when p lies behind it.
 double depth_in_bone(const AabbTree& bone, const Vec3& p) {

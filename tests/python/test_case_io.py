@@ -41,3 +41,27 @@ def test_plan_applied_to_a_case(stk):
     assert len(added["tubes"]) == len(case["tubes"]) + 5
     with pytest.raises(ValueError, match="no sleeve preset"):
         stk.find_sleeve_preset(stk.sleeve_presets(), "no-such-sleeve")
+
+
+def test_slots_read_written_and_designed_through_the_module(stk, tmp_path):
+    """The tibia example's two saw slots survive the workbench's read and write, and design_template
+    cuts them: each as wide as blade + 2 x clearance, its blade path free, the guide one valid solid."""
+    case = stk.read_case(os.path.join(CASES, "tibia-osteotomy.json"))
+    assert [s["name"] for s in case["slots"]] == ["proximal cut", "distal cut"]
+    path = tmp_path / "case.json"
+    stk.write_case(case, str(path))
+    again = stk.read_case(str(path))
+    for a, b in zip(case["slots"], again["slots"]):
+        assert a["name"] == b["name"] and a["closed"] == b["closed"]
+        assert np.allclose(a["normal"], b["normal"]) and a["blade"] == b["blade"]
+    bad = dict(case["slots"][0], blade=0.0)
+    with pytest.raises(ValueError, match=r"slots\[0\]\.blade"):
+        stk.write_case(dict(case, slots=[bad]), str(tmp_path / "bad.json"))
+    v, f = stk.read_mesh(case["bone"])
+    r = stk.design_template(v, f, case["boundary_points"], case["thickness"], clearance=case["clearance"],
+                            inside=case["inside"], slots=case["slots"])
+    assert r["solid"]["valid"], r["solid"]["summary"]
+    assert [s["name"] for s in r["slots"]] == ["proximal cut", "distal cut"]
+    for s, planned in zip(r["slots"], case["slots"]):
+        assert s["blade_path_free"]
+        assert s["width"] == pytest.approx(planned["blade"] + 2 * planned["clearance"])

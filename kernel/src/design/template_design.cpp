@@ -51,6 +51,8 @@ void check_options(const TemplateOptions& o) {
   if (o.sampling_step < 0)
     throw InvalidInput("template.sampling_step must be >= 1, got " + detail::number(o.sampling_step));
   if (o.inside && !o.inside->allFinite()) throw InvalidInput("boundary.inside has a non-finite coordinate");
+  for (const TubeSpec& t : o.tubes) check_tube(t); // before any work
+  for (const SlotSpec& s : o.slots) check_slot(s);
 }
 
 // Moves the region off the bone by `distance` (the clearance) along a smooth normal field of the
@@ -420,13 +422,15 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   }
   if (options.check) result.times.validation = seconds_since(t0);
   result.body_inner_faces = inner.region.face_count();
-  if (!options.tubes.empty()) {
+  if (!options.tubes.empty() || !options.slots.empty()) {
     GuideOptions guide_options;
     guide_options.chordal_tolerance = options.tube_tolerance;
     guide_options.clearance = options.clearance;
-    GuideResult guide = add_tubes(result.shell, result.body_inner_faces, bone, options.tubes, guide_options);
+    GuideResult guide = build_guide(result.shell, result.body_inner_faces, bone,
+                                    GuideParts{options.tubes, options.slots}, guide_options);
     result.times.boolean = guide.seconds;
     result.tubes = std::move(guide.tubes);
+    result.slots = std::move(guide.slots);
     result.perturbed_operations = guide.perturbed_operations;
     result.max_perturbation = guide.max_perturbation;
     result.curve_tolerance = guide.curve_tolerance;
@@ -439,9 +443,15 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     if (options.check) {
       t0 = Clock::now();
       result.solid = check_solid(result.shell);
-      result.times.validation += seconds_since(t0);
       if (!result.solid.valid())
         throw GeometryError("the guide with its tubes failed its check: " + result.solid.summary());
+      for (std::size_t i = 0; i < options.slots.size(); ++i) {
+        result.blade_paths.push_back(check_blade_path(result.shell, options.slots[i], result.slots[i]));
+        if (const auto& at = result.blade_paths.back().blocked; at && !std::getenv("ST_DEBUG_SLOTS"))
+          throw GeometryError("slot '" + options.slots[i].name + "': guide material is left in the blade's path near " +
+                              detail::where(*at));
+      }
+      result.times.validation += seconds_since(t0);
     }
   } else {
     result.body = result.shell;

@@ -9,6 +9,8 @@
 #include "st/boolean/triangle_intersection.h"
 
 #include "detail/format.h"
+#include "guide/seat.h"
+#include "guide/slot_guide.h"
 
 #include <algorithm>
 #include <array>
@@ -22,6 +24,7 @@ namespace st {
 
 namespace {
 
+using namespace guide_detail;
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
@@ -36,11 +39,6 @@ std::vector<Index> faces_around(const TriangleMesh& mesh, const TubeSpec& tube, 
   for (Index f = 0; f < mesh.face_count(); ++f)
     if (triangle_box(mesh, f).overlaps(box)) faces.push_back(f);
   return faces;
-}
-
-TriangleMesh rounded(TriangleMesh mesh) {
-  for (Vec3& p : mesh.positions) p = p.cast<float>().cast<double>();
-  return mesh;
 }
 
 struct Sample {
@@ -151,71 +149,6 @@ GeometryError conflict(const TubeSpec& tube, const Vec3& where, const std::strin
                        "; shorten it, raise its offset or change its direction");
 }
 
-// Keeps the side of `polygon` where n . x >= offset (Sutherland-Hodgman, one plane).
-std::vector<Vec3> clipped(const std::vector<Vec3>& polygon, const Vec3& n, double offset) {
-  std::vector<Vec3> out;
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const Vec3 &p = polygon[i], &q = polygon[(i + 1) % polygon.size()];
-    const double sp = n.dot(p) - offset, sq = n.dot(q) - offset;
-    if (sp >= 0.0) out.push_back(p);
-    if ((sp >= 0.0) != (sq >= 0.0)) out.push_back(p + (sp / (sp - sq)) * (q - p));
-  }
-  return out;
-}
-
-// The highest bone (a height along the tube's axis, from the entry) over the foot triangle `foot`
-// (in the prism over it along the axis), up to `ceiling`; nothing when no bone lies there. Each bone
-// triangle near is clipped by the prism's three side planes and by the ceiling: the highest point
-// of what is left is one of its corners, so the height is that of the bone itself, not of samples.
-std::optional<double> highest_bone(const AabbTree& bone, const TubeSpec& tube, const std::array<Vec3, 3>& foot,
-                                   double floor, double ceiling) {
-  const Vec3 axis = tube_axis(tube);
-  auto height = [&](const Vec3& x) { return axis.dot(x - tube.entry); };
-  BoundingBox box;
-  for (const Vec3& f : foot) {
-    box.extend(f);
-    box.extend(f + (ceiling - floor) * axis);
-  }
-  std::array<Vec3, 3> normals;
-  std::array<double, 3> offsets{};
-  for (int k = 0; k < 3; ++k) {
-    Vec3 n = axis.cross(foot[(k + 1) % 3] - foot[k]);
-    if (n.dot(foot[(k + 2) % 3] - foot[k]) < 0.0) n = -n;
-    normals[k] = n;
-    offsets[k] = n.dot(foot[k]);
-  }
-  std::optional<double> highest;
-  const TriangleMesh& mesh = bone.mesh();
-  bone.for_each_in_box(box.inflated(1e-6), [&](Index g) {
-    const Triangle& t = mesh.triangles[g];
-    std::vector<Vec3> polygon{mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]};
-    for (int k = 0; k < 3 && !polygon.empty(); ++k) polygon = clipped(polygon, normals[k], offsets[k]);
-    if (!polygon.empty()) polygon = clipped(polygon, -axis, -(ceiling + axis.dot(tube.entry)));
-    for (const Vec3& x : polygon) highest = std::max(highest.value_or(height(x)), height(x));
-  });
-  return highest;
-}
-
-// Per foot vertex of `mesh` (its first `foot_vertices` vertices, lying at height `floor`): the height
-// it must stand at, `above` over the highest bone (up to `ceiling`) over the foot triangles around
-// it, or -infinity where there is none. `shift` moves the foot triangles along the axis to `floor`
-// first (a foot made at another height).
-std::vector<double> foot_needs(const TriangleMesh& mesh, Index foot_vertices, const TubeSpec& tube, double floor,
-                               double ceiling, double above, const AabbTree& bone, double shift = 0.0) {
-  const Vec3 axis = tube_axis(tube);
-  std::vector<double> need(foot_vertices, -std::numeric_limits<double>::infinity());
-  for (const Triangle& t : mesh.triangles) {
-    if (t[0] >= foot_vertices || t[1] >= foot_vertices || t[2] >= foot_vertices) continue;
-    const auto h = highest_bone(
-        bone, tube,
-        {mesh.positions[t[0]] + shift * axis, mesh.positions[t[1]] + shift * axis, mesh.positions[t[2]] + shift * axis},
-        floor, ceiling);
-    if (!h) continue;
-    for (Index v : t) need[v] = std::max(need[v], *h + above);
-  }
-  return need;
-}
-
 // Seats a column whose foot (its first `foot_vertices` vertices) lies flat at height `floor`: every
 // foot vertex rises to `above` over the highest bone over the foot triangles around it (so each foot
 // triangle, whose corners all stand that high over the bone under it, stays clear of it), never by
@@ -225,7 +158,7 @@ bool seat_foot(TriangleMesh& column, Index foot_vertices, const TubeSpec& tube, 
                double above, const AabbTree& bone) {
   if (bone.empty()) return true;
   const Vec3 axis = tube_axis(tube);
-  const std::vector<double> need = foot_needs(column, foot_vertices, tube, floor, ceiling, above, bone);
+  const std::vector<double> need = foot_needs(column, foot_vertices, tube.entry, axis, floor, ceiling, above, bone);
   for (Index v = 0; v < foot_vertices; ++v)
     if (need[v] > ceiling - 0.01 * tube.length) return false;
   for (Index v = 0; v < foot_vertices; ++v)
@@ -250,7 +183,8 @@ TriangleMesh trimmed(const TriangleMesh& column, const TubeSpec& tube, double fl
   TriangleMesh block = footed_cylinder_mesh(c, tolerance, [](const Vec3&) { return 0.0; });
   const Index ring = static_cast<Index>(circle_segments(radius, tolerance));
   const Index foot = block.vertex_count() - ring - 1;
-  const std::vector<double> need = foot_needs(block, foot, tube, bottom, top, above, bone, -(top - bottom));
+  const std::vector<double> need =
+      foot_needs(block, foot, tube.entry, tube_axis(tube), bottom, top, above, bone, -(top - bottom));
   for (Index v = 0; v < foot; ++v)
     block.positions[v] += (std::clamp(need[v], bottom + 1.0, top) - top) * tube_axis(tube);
   BooleanOptions o;
@@ -265,19 +199,7 @@ TriangleMesh trimmed(const TriangleMesh& column, const TubeSpec& tube, double fl
 // face of it meets the bone. One that does (rounding, or bone through the sleeve's side) is a
 // conflict named by the tube and the place.
 void check_clear_of_bone(const TriangleMesh& column, const TubeSpec& tube, const AabbTree& bone) {
-  if (bone.empty()) return;
-  std::optional<Vec3> meets;
-  const AabbTree tree(column);
-  tree.for_each_overlapping_pair(bone, [&](Index fc, Index fb) {
-    if (meets) return;
-    const Triangle& c = column.triangles[fc];
-    const Triangle& b = bone.mesh().triangles[fb];
-    const auto& q = bone.mesh().positions;
-    if (triangles_intersect(column.positions[c[0]], column.positions[c[1]], column.positions[c[2]], q[b[0]], q[b[1]],
-                            q[b[2]]))
-      meets = column.positions[c[0]];
-  });
-  if (meets) throw conflict(tube, *meets, "sleeve runs into the bone");
+  if (const auto meets = meets_bone(column, bone)) throw conflict(tube, *meets, "sleeve runs into the bone");
 }
 
 // The drill's way down the axis, from the sleeve's top to the entry, meets the bone's surface once:
@@ -382,10 +304,35 @@ std::size_t drop_fragments(TriangleMesh& mesh, std::vector<std::uint8_t>& from_t
   return pieces - 1;
 }
 
+// Each slot's cut against the other slots' housings and cuts and the tubes' sleeves and bores: what
+// it meets is reported (a slot through a sleeve weakens it; two slots crossing cut off a piece).
+void note_slot_meetings(const std::vector<TubeSpec>& tubes, const std::vector<SlotSpec>& slots,
+                        const std::vector<TriangleMesh>& housings, const GuideOptions& options, GuideResult& result) {
+  for (std::size_t i = 0; i < slots.size(); ++i) {
+    const TriangleMesh cut = slot_cut(slots[i], result.slots[i]);
+    for (std::size_t j = 0; j < tubes.size(); ++j) {
+      const TubePlacement& t = result.tubes[j];
+      const Cylinder c = tube_cylinder(tubes[j], tubes[j].outer_radius, std::min(t.bore_bottom, t.column_bottom),
+                                       std::max(t.bore_top, t.sleeve_top));
+      if (convex_solids_meet(cut, cylinder_mesh(c, options.chordal_tolerance, true)))
+        result.slots[i].meets.push_back("tube '" + tubes[j].name + "'");
+    }
+    for (std::size_t j = 0; j < slots.size(); ++j)
+      if (j != i && solids_cross(cut, housings[j])) result.slots[i].meets.push_back("slot '" + slots[j].name + "'");
+  }
+}
+
 } // namespace
 
 GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
                       const std::vector<TubeSpec>& tubes, const GuideOptions& options) {
+  return build_guide(shell, inner_faces, bone, GuideParts{tubes, {}}, options);
+}
+
+GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
+                        const GuideParts& parts, const GuideOptions& options) {
+  const std::vector<TubeSpec>& tubes = parts.tubes;
+  const std::vector<SlotSpec>& slots = parts.slots;
   const auto t0 = Clock::now();
   if (!(options.chordal_tolerance > 0.0) || !(options.chordal_tolerance < 1.0))
     throw InvalidInput("chordal tolerance: must be in (0, 1) mm, got " + detail::number(options.chordal_tolerance));
@@ -393,8 +340,9 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
   GuideResult result;
   result.mesh = shell;
   result.from_tube.assign(shell.face_count(), 0);
-  if (tubes.empty()) return result;
+  if (tubes.empty() && slots.empty()) return result;
   for (const TubeSpec& t : tubes) check_tube(t);
+  for (const SlotSpec& s : slots) check_slot(s);
 
   auto note = [&](const BooleanResult& r) {
     result.perturbed_operations += r.attempts > 1;
@@ -413,6 +361,7 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
     all = r.mesh;
   };
   for (const TubeSpec& tube : tubes) result.tubes.push_back(place(tube, shell, options));
+  for (const SlotSpec& slot : slots) result.slots.push_back(place_slot(slot, shell, options));
   // The bone under all sleeves, for their feet: one pass over it.
   std::vector<Index> bone_near;
   {
@@ -423,6 +372,17 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
       b.extend(tube_point(tubes[i], result.tubes[i].column_bottom - 1.0));
       b.extend(tube_point(tubes[i], result.tubes[i].sleeve_top + options.bore_margin));
       boxes.push_back(b.inflated(tubes[i].outer_radius + std::max(0.5, 0.2 * tubes[i].outer_radius)));
+      all.extend(boxes.back());
+    }
+    for (std::size_t i = 0; i < slots.size(); ++i) {
+      const SlotPlacement& p = result.slots[i];
+      const SlotFrame f = slot_frame(slots[i]);
+      BoundingBox b;
+      for (const double a : {-1.0, 1.0})
+        for (const double e : {p.housing_start, p.housing_end})
+          for (const double z : {p.housing_bottom - 1.0, p.cut_top})
+            b.extend(f.at(a * (0.5 * p.width + slots[i].wall), e, z));
+      boxes.push_back(b.inflated(0.5));
       all.extend(boxes.back());
     }
     for (Index f = 0; f < bone.face_count(); ++f) {
@@ -461,6 +421,11 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
     check_bore_line(tubes[i], p.sleeve_top, bone_tree);
     unite(columns, column);
   }
+  std::vector<TriangleMesh> housings;
+  for (std::size_t i = 0; i < slots.size(); ++i) {
+    housings.push_back(slot_housing(slots[i], result.slots[i], bone_tree, options));
+    unite(columns, housings.back());
+  }
   result.columns_seconds = seconds_since(t0) - result.placement_seconds;
   if (!columns.empty()) {
     BooleanOptions o = quick;
@@ -483,6 +448,8 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
     unite(bores, rounded(cylinder_mesh(tube_cylinder(tubes[i], tubes[i].inner_radius, p.bore_bottom, p.bore_top),
                                        options.chordal_tolerance, true)));
   }
+  for (std::size_t i = 0; i < slots.size(); ++i) unite(bores, slot_cut(slots[i], result.slots[i]));
+  note_slot_meetings(tubes, slots, housings, options, result);
   BooleanResult cut = mesh_boolean(result.mesh, bores, BooleanOp::Difference, quick);
   note(cut);
   std::vector<std::uint8_t> from_tube(cut.mesh.face_count());

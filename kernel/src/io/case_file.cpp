@@ -22,6 +22,41 @@ Plan case_markups(const std::string& file, const CaseFile& c, std::optional<Spac
   return read_markups(file, *space);
 }
 
+/// slots[i] of a case (docs/CASE-FORMAT.md): the plane, the saw's travel, the blade and the housing.
+SlotSpec parse_slot(const detail::JsonReader& r, const json& s, std::size_t i, std::vector<std::string>& warnings) {
+  const std::string key = "slots[" + std::to_string(i) + "]";
+  if (!s.is_object()) r.fail(key, "must be an object");
+  r.unknown_keys(s,
+                 {"name", "origin", "normal", "direction", "blade", "clearance", "length", "height", "wall", "closed"},
+                 key + ".", warnings);
+  SlotSpec slot;
+  slot.name = r.string(r.required(s, "name", key + ".name"), key + ".name");
+  slot.origin = r.point(r.required(s, "origin", key + ".origin"), key + ".origin");
+  slot.normal = r.point(r.required(s, "normal", key + ".normal"), key + ".normal");
+  slot.direction = r.point(r.required(s, "direction", key + ".direction"), key + ".direction");
+  slot.blade = r.number(r.required(s, "blade", key + ".blade"), key + ".blade");
+  slot.length = r.number(r.required(s, "length", key + ".length"), key + ".length");
+  if (s.contains("clearance")) slot.clearance = r.number(s["clearance"], key + ".clearance");
+  if (s.contains("height")) slot.height = r.number(s["height"], key + ".height");
+  if (s.contains("wall")) slot.wall = r.number(s["wall"], key + ".wall");
+  if (s.contains("closed")) {
+    const json& closed = s["closed"];
+    if (!closed.is_array()) r.fail(key + ".closed", "must be an array of \"start\" and \"end\"");
+    slot.closed_start = slot.closed_end = false;
+    for (const json& end : closed) {
+      const std::string which = r.string(end, key + ".closed");
+      if (which == "start") slot.closed_start = true;
+      else if (which == "end") slot.closed_end = true;
+      else r.fail(key + ".closed", "must hold \"start\" and \"end\" only, got \"" + which + "\"");
+    }
+  }
+  if (const auto problem = slot_problem(slot)) r.fail(key + "." + problem->key, problem->reason);
+  const SlotFrame f = slot_frame(slot);
+  slot.normal = f.n;
+  slot.direction = f.d;
+  return slot;
+}
+
 } // namespace
 
 TemplateOptions template_options(const CaseFile& c) {
@@ -33,6 +68,7 @@ TemplateOptions template_options(const CaseFile& c) {
   o.resolution = c.resolution.value_or(0.0);
   o.sampling_step = c.sampling_step.value_or(0);
   o.tubes = c.tubes;
+  o.slots = c.slots;
   o.analyse_insertion = true;
   o.insertion = c.insertion;
   o.block_out = c.insertion.has_value() || c.insertion_auto;
@@ -50,7 +86,7 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
 
   const std::string format = r.string(r.required(doc, "format", "format"), "format");
   if (format != kCaseFormat) r.fail("format", "must be \"" + std::string(kCaseFormat) + "\", got \"" + format + "\"");
-  r.unknown_keys(doc, {"format", "name", "bone", "boundary", "template", "tubes", "output"}, "", c.warnings);
+  r.unknown_keys(doc, {"format", "name", "bone", "boundary", "template", "tubes", "slots", "output"}, "", c.warnings);
 
   c.name = doc.contains("name") ? r.string(doc["name"], "name") : fs::path(path).stem().string();
   c.bone = resolve(r.string(r.required(doc, "bone", "bone"), "bone"));
@@ -151,6 +187,16 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
       c.tubes.push_back(tube);
     }
   }
+  if (doc.contains("slots")) {
+    const json& slots = doc["slots"];
+    if (!slots.is_array()) r.fail("slots", "must be an array");
+    for (std::size_t i = 0; i < slots.size(); ++i) {
+      c.slots.push_back(parse_slot(r, slots[i], i, c.warnings));
+      for (std::size_t j = 0; j < i; ++j)
+        if (c.slots[j].name == c.slots[i].name)
+          r.fail("slots[" + std::to_string(i) + "].name", "\"" + c.slots[i].name + "\" names an earlier slot too");
+    }
+  }
   if (doc.contains("output")) c.output = resolve(r.string(doc["output"], "output"));
   return c;
 }
@@ -184,6 +230,22 @@ std::string case_json(const CaseFile& c, const std::string& path) {
                  {"offset", t.offset}};
     if (t.depth > 0.0) tube["depth"] = t.depth;
     doc["tubes"].push_back(tube);
+  }
+  if (!c.slots.empty()) doc["slots"] = json::array();
+  for (const SlotSpec& s : c.slots) {
+    json closed = json::array();
+    if (s.closed_start) closed.push_back("start");
+    if (s.closed_end) closed.push_back("end");
+    doc["slots"].push_back({{"name", s.name},
+                            {"origin", point(s.origin)},
+                            {"normal", point(s.normal)},
+                            {"direction", point(s.direction)},
+                            {"blade", s.blade},
+                            {"clearance", s.clearance},
+                            {"length", s.length},
+                            {"height", s.height},
+                            {"wall", s.wall},
+                            {"closed", closed}});
   }
   if (c.output) doc["output"] = relative(*c.output);
   return doc.dump(2) + "\n";

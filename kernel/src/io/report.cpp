@@ -37,6 +37,17 @@ nlohmann::json to_json(const TubePlacement& p) {
           {"trimmed_by_bone", p.trimmed_by_bone}};
 }
 
+nlohmann::json to_json(const SlotPlacement& p) {
+  return {{"name", p.name},
+          {"width", p.width},
+          {"template_top", p.template_top},
+          {"housing", {p.housing_bottom, p.housing_top}},
+          {"cut", {p.cut_bottom, p.cut_top}},
+          {"extent", {p.slot_start, p.slot_end}},
+          {"housing_extent", {p.housing_start, p.housing_end}},
+          {"meets", p.meets}};
+}
+
 namespace {
 
 nlohmann::json placements(const std::vector<TubePlacement>& tubes) {
@@ -60,6 +71,7 @@ nlohmann::json to_json(const TemplateResult& r, const TemplateOptions& options) 
                    {"wall_triangles", r.wall_triangles},
                    {"template_triangles", r.shell.face_count()},
                    {"drilling_tubes", options.tubes.size()},
+                   {"saw_slots", options.slots.size()},
                    {"sampling_step", r.sampling_step},
                    {"resolution", r.resolution}};
   out["times"] = {{"inner_surface_segmentation", t.inner_segmentation},
@@ -100,6 +112,17 @@ nlohmann::json to_json(const TemplateResult& r, const TemplateOptions& options) 
   }
   if (r.stability.analysed) out["stability"] = to_json(r.stability);
   out["tubes"] = placements(r.tubes);
+  if (!r.slots.empty()) {
+    out["slots"] = nlohmann::json::array();
+    for (std::size_t i = 0; i < r.slots.size(); ++i) {
+      nlohmann::json s = to_json(r.slots[i]);
+      if (i < r.blade_paths.size()) {
+        s["blade_path_free"] = r.blade_paths[i].free;
+        if (r.blade_paths[i].blocked) s["blade_path_blocked_at"] = xyz(*r.blade_paths[i].blocked);
+      }
+      out["slots"].push_back(s);
+    }
+  }
   out["boolean"] = {{"perturbed_operations", r.perturbed_operations},
                     {"max_perturbation_mm", r.max_perturbation},
                     {"curve_tolerance_mm", r.curve_tolerance},

@@ -9,6 +9,7 @@
 #include "st/guide/guide.h"
 #include "st/core/mesh.h"
 #include "st/core/tolerances.h"
+#include "st/guide/blade_path.h"
 #include "st/validate/stability.h"
 #include "st/validate/validate.h"
 
@@ -46,6 +47,8 @@ struct TemplateOptions {
   double removal_distance = 20.0; ///< how far the removal check moves the guide off, mm
   /// Drilling tubes merged into the shell (guide.h); empty for a template without sleeves.
   std::vector<TubeSpec> tubes;
+  /// Saw slots on planned osteotomy planes (slot.h); their housings are merged with the sleeves.
+  std::vector<SlotSpec> slots;
   double tube_tolerance = 0.01; ///< chordal tolerance of sleeves and bores, mm
 };
 
@@ -97,20 +100,22 @@ struct TemplateFit {
 };
 
 struct TemplateResult {
-  TriangleMesh shell;                  ///< the closed template, with its sleeves and bores when it has tubes
-  TriangleMesh body;                   ///< the template before the tubes (== shell without tubes)
-  std::size_t body_inner_faces = 0;    ///< the body's first faces are its inner surface
-  std::vector<std::uint8_t> from_tube; ///< per shell face: 1 for sleeve and bore faces
-  std::vector<TubePlacement> tubes;    ///< per tube: where its sleeve and bore were put
-  int perturbed_operations = 0;        ///< Boolean operations that needed a tiny displacement
-  double max_perturbation = 0.0;       ///< the largest such displacement, mm
-  double curve_tolerance = 0.0;        ///< how far the Boolean intersection curves may have moved, mm
-  std::size_t fragments_dropped = 0;   ///< slivers of template the bores cut off (dropped, guide.h)
-  TriangleMesh columns, bores;         ///< the operands of the tubes' union and difference (guide.h)
-  TriangleMesh inner;                  ///< inner surface (bone side), oriented as the bone
-  TriangleMesh outer;                  ///< outer surface, oriented outward
-  std::vector<Vec3> curve;             ///< the boundary curve on the bone (closed polyline)
-  std::vector<Vec3> outer_curve;       ///< the cut curve on the offset surface
+  TriangleMesh shell;                       ///< the closed template, with its sleeves and bores when it has tubes
+  TriangleMesh body;                        ///< the template before the tubes (== shell without tubes)
+  std::size_t body_inner_faces = 0;         ///< the body's first faces are its inner surface
+  std::vector<std::uint8_t> from_tube;      ///< per shell face: 1 for sleeve and bore faces
+  std::vector<TubePlacement> tubes;         ///< per tube: where its sleeve and bore were put
+  std::vector<SlotPlacement> slots;         ///< per slot: where its housing and cut were put
+  std::vector<BladePathReport> blade_paths; ///< per slot, with options.check: its blade path is free
+  int perturbed_operations = 0;             ///< Boolean operations that needed a tiny displacement
+  double max_perturbation = 0.0;            ///< the largest such displacement, mm
+  double curve_tolerance = 0.0;             ///< how far the Boolean intersection curves may have moved, mm
+  std::size_t fragments_dropped = 0;        ///< slivers of template the bores cut off (dropped, guide.h)
+  TriangleMesh columns, bores;              ///< the operands of the tubes' union and difference (guide.h)
+  TriangleMesh inner;                       ///< inner surface (bone side), oriented as the bone
+  TriangleMesh outer;                       ///< outer surface, oriented outward
+  std::vector<Vec3> curve;                  ///< the boundary curve on the bone (closed polyline)
+  std::vector<Vec3> outer_curve;            ///< the cut curve on the offset surface
   std::size_t inner_rim_points = 0;
   std::size_t outer_rim_points = 0;
   std::size_t wall_triangles = 0;

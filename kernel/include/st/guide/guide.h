@@ -1,6 +1,6 @@
 #pragma once
 // The surgical guide: the template shell with its drilling tubes (paper: "Collision detection and
-// merging"), made with the kernel's Boolean operations (boolean.h).
+// merging") and saw slots, made with the kernel's Boolean operations (boolean.h).
 //
 // Per tube, rays along the planned axis find where the template lies under the sleeve. The sleeve's
 // outer cylinder is extended down to the middle of the template wall (a column, so a sleeve planned
@@ -17,6 +17,7 @@
 // circumscribed so the drill always fits) are cut along each whole axis, from above the sleeve
 // through to the bone.
 
+#include "st/guide/slot.h"
 #include "st/guide/tube.h"
 #include "st/core/mesh.h"
 
@@ -46,10 +47,34 @@ struct TubePlacement {
   bool trimmed_by_bone = false;        ///< bone rises to the sleeve's top beside the bore: the sleeve is notched
 };
 
+/// What was decided for one saw slot; heights z along its frame's up from the origin (slot.h).
+struct SlotPlacement {
+  std::string name;
+  double width = 0.0;          ///< blade + 2 x clearance
+  double template_top = 0.0;   ///< highest point of the template's outer surface under the housing
+  double housing_top = 0.0;    ///< template_top + height
+  double housing_bottom = 0.0; ///< the housing's foot before it is raised over the bone (in the template wall)
+  double foot_lift = 0.0;      ///< the housing's foot stays this far above bone + clearance
+  double cut_bottom = 0.0;     ///< the slot is cut from here (past the template's inner surface)...
+  double cut_top = 0.0;        ///< ...to here (past the housing's top)
+  double slot_start = 0.0;     ///< the slot's extent along e: closed ends at -length / 2, +length / 2,
+  double slot_end = 0.0;       ///< open ones past the housing's end
+  double housing_start = 0.0;  ///< the housing's extent along e (a wall beyond each closed end)
+  double housing_end = 0.0;
+  std::vector<std::string> meets; ///< the tubes ("tube 't1'") and slots whose guide material it cuts or meets
+};
+
+/// Everything a guide carries besides its template.
+struct GuideParts {
+  std::vector<TubeSpec> tubes;
+  std::vector<SlotSpec> slots;
+};
+
 struct GuideResult {
   TriangleMesh mesh;                   ///< the guide, float32-exact
-  std::vector<std::uint8_t> from_tube; ///< per face: 1 when it is sleeve wall, cap or bore
+  std::vector<std::uint8_t> from_tube; ///< per face: 1 when it is sleeve wall, cap or bore, or slot housing or wall
   std::vector<TubePlacement> tubes;
+  std::vector<SlotPlacement> slots;
   double placement_seconds = 0.0;    ///< rays along the axes (part of union_seconds)
   double columns_seconds = 0.0;      ///< columns united with each other (part of union_seconds)
   double union_seconds = 0.0;        ///< placement, columns united with each other and with the shell
@@ -69,5 +94,13 @@ struct GuideResult {
 /// the template (naming it and how far it passes) or a merge that cannot be made valid.
 GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
                       const std::vector<TubeSpec>& tubes, const GuideOptions& options = {});
+
+/// add_tubes with saw slots too: each slot's housing stands on the template like a sleeve's column
+/// (its foot over the bone, the same exact clipping), united with the columns and the shell; each slot
+/// is cut with the bores, from above its housing down past the template's inner surface. Throws
+/// InvalidInput for a bad slot (naming it and the key) and GeometryError for a slot that misses the
+/// template or whose housing the bone reaches (naming it and the place).
+GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
+                        const GuideParts& parts, const GuideOptions& options = {});
 
 } // namespace st

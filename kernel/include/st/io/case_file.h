@@ -4,6 +4,7 @@
 
 #include "st/core/mesh.h"
 #include "st/design/template_design.h"
+#include "st/guide/slot.h"
 #include "st/guide/tube.h"
 
 #include <optional>
@@ -26,6 +27,7 @@ struct CaseFile {
   std::optional<Vec3> insertion; ///< template.insertion as a unit vector; none for "auto" or absent
   bool insertion_auto = false;   ///< template.insertion is "auto"
   std::vector<TubeSpec> tubes;
+  std::vector<SlotSpec> slots;
   std::optional<std::string> output; ///< resolved against the case folder
   std::vector<std::string> warnings; ///< unknown keys and the like
 };
@@ -37,7 +39,7 @@ inline constexpr const char* kCaseFormat = "surgical-template-case/1";
 CaseFile read_case(const std::string& path);
 
 /// The options a case file asks for: boundary, inside, thickness, clearance, resolution, sampling step
-/// and tubes (the rest at their defaults).
+/// tubes and slots (the rest at their defaults).
 TemplateOptions template_options(const CaseFile& c);
 
 /// The case as the JSON text of a case file at `path`: the bone relative to that file's folder,

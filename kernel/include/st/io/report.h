@@ -21,6 +21,7 @@ nlohmann::json to_json(const DistanceStats& s);
 /// {name, sleeve: [bottom, top], column_bottom, template: [bottom, top], bore: [bottom, top],
 /// inside_template}
 nlohmann::json to_json(const TubePlacement& p);
+nlohmann::json to_json(const SlotPlacement& p);
 
 /// {counts: {edge_points_of_inner_surface, triangles_of_inner_surface, points_of_inner_surface,
 /// edge_points_of_outer_surface, triangles_of_outer_surface, offset_triangles, field_voxels,
