@@ -132,8 +132,23 @@ inline TubeSpec to_tube(const py::handle& item, const std::string& where) {
   auto point = [&](const char* key) { return fields.point(key); };
   TubeSpec t;
   t.name = d.contains("name") ? py::str(d["name"]).cast<std::string>() : where;
+  if (d.contains("kind") && !d["kind"].is_none()) {
+    const std::string kind = py::str(d["kind"]).cast<std::string>();
+    const auto named = tube_kind_named(kind);
+    if (!named) throw InvalidInput(where + ": 'kind' must be \"sleeve\" or \"pin\", got \"" + kind + "\"");
+    t.kind = *named;
+  }
+  if (d.contains("counterbore") && !d["counterbore"].is_none()) {
+    if (!py::isinstance<py::dict>(d["counterbore"]))
+      throw InvalidInput(where + ": 'counterbore' must be a dict {'radius': r, 'depth': d}");
+    const py::dict cb = d["counterbore"];
+    const std::string at = where + ".counterbore";
+    const DictFields cf{cb, at};
+    t.counterbore = Counterbore{cf.number("radius", std::nullopt), cf.number("depth", std::nullopt)};
+  }
   t.entry = point("entry");
-  t.direction = point("direction");
+  if (t.kind == TubeKind::pin && (!d.contains("direction") || d["direction"].is_none())) t.auto_direction = true;
+  else t.direction = point("direction");
   if (t.direction.allFinite() && t.direction.norm() > 0.0) t.direction.normalize();
   t.inner_radius = number("inner_radius", std::nullopt);
   t.outer_radius = number("outer_radius", std::nullopt);
@@ -213,8 +228,16 @@ inline py::dict slot_dict(const SlotSpec& s) {
 inline py::dict tube_dict(const TubeSpec& t) {
   py::dict td;
   td["name"] = t.name;
+  td["kind"] = tube_kind_name(t.kind);
   td["entry"] = from_points({t.entry}).attr("reshape")(3);
-  td["direction"] = from_points({t.direction}).attr("reshape")(3);
+  td["direction"] =
+      t.auto_direction ? py::object(py::none()) : py::object(from_points({t.direction}).attr("reshape")(3));
+  if (t.counterbore) {
+    py::dict cb;
+    cb["radius"] = t.counterbore->radius;
+    cb["depth"] = t.counterbore->depth;
+    td["counterbore"] = cb;
+  }
   td["inner_radius"] = t.inner_radius;
   td["outer_radius"] = t.outer_radius;
   td["length"] = t.length;

@@ -230,6 +230,10 @@ int design(int argc, char** argv) {
   if (!r.tubes.empty() || !r.slots.empty())
     std::printf("  %zu drilling tube(s) and %zu saw slot(s) merged and cut in %.3f s\n", r.tubes.size(), r.slots.size(),
                 t.boolean);
+  for (const st::TubePlacement& p : r.tubes)
+    for (const std::string& other : p.near)
+      std::fprintf(stderr, "warning: %s: the path of tube '%s' passes within 1 mm of %s\n", c.name.c_str(),
+                   p.name.c_str(), other.c_str());
   for (std::size_t i = 0; i < r.slots.size(); ++i) {
     const st::SlotPlacement& p = r.slots[i];
     const bool free = i < r.blade_paths.size() && r.blade_paths[i].free;

@@ -1,4 +1,5 @@
 #include "st/design/template_design.h"
+#include "st/guide/sleeve.h"
 
 #include "st/design/blockout.h"
 #include "st/design/insertion.h"
@@ -216,6 +217,14 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
 
   TemplateResult result;
   const double T = options.thickness;
+  std::optional<AabbTree> bone_tree;
+  // Pins planned by their entry only go into the bone there (pin_direction), decided before any work.
+  std::vector<TubeSpec> tubes = options.tubes;
+  for (TubeSpec& t : tubes) {
+    if (!t.auto_direction) continue;
+    if (!bone_tree) bone_tree.emplace(bone);
+    t.direction = pin_direction(t, *bone_tree, std::max(3.0, 2.0 * t.outer_radius));
+  }
 
   // 1. Inner surface: the boundary curve and the cut.
   auto t0 = Clock::now();
@@ -229,11 +238,10 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   CutResult inner = cut_region(topology, curve, cut_options);
   const TriangleMesh bone_region = inner.region;
   result.times.inner_segmentation = seconds_since(t0);
-  std::optional<AabbTree> bone_tree;
   std::optional<SweepTest> sweep; // the bone prepared for the block-out's and the removal check's sweeps
   if (options.analyse_insertion) {
     t0 = Clock::now();
-    bone_tree.emplace(bone);
+    if (!bone_tree) bone_tree.emplace(bone);
     result.insertion = analyse_insertion(*bone_tree, bone_region, options.insertion, options.removal_distance);
     result.times.insertion = seconds_since(t0);
     if (options.block_out && result.insertion.undercut_area_mm2 > 0.0) {
@@ -422,12 +430,12 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   }
   if (options.check) result.times.validation = seconds_since(t0);
   result.body_inner_faces = inner.region.face_count();
-  if (!options.tubes.empty() || !options.slots.empty()) {
+  if (!tubes.empty() || !options.slots.empty()) {
     GuideOptions guide_options;
     guide_options.chordal_tolerance = options.tube_tolerance;
     guide_options.clearance = options.clearance;
-    GuideResult guide = build_guide(result.shell, result.body_inner_faces, bone,
-                                    GuideParts{options.tubes, options.slots}, guide_options);
+    GuideResult guide =
+        build_guide(result.shell, result.body_inner_faces, bone, GuideParts{tubes, options.slots}, guide_options);
     result.times.boolean = guide.seconds;
     result.tubes = std::move(guide.tubes);
     result.slots = std::move(guide.slots);

@@ -11,6 +11,7 @@
 #include "detail/format.h"
 #include "guide/seat.h"
 #include "guide/slot_guide.h"
+#include "st/guide/inspect.h"
 
 #include <algorithm>
 #include <array>
@@ -50,6 +51,8 @@ struct Sample {
 TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const GuideOptions& options) {
   TubePlacement p;
   p.name = tube.name;
+  p.kind = tube.kind;
+  p.direction = tube.direction.normalized();
   p.sleeve_bottom = tube.offset;
   p.sleeve_top = tube.offset + tube.length;
   const Vec3 axis = tube_axis(tube);
@@ -304,6 +307,22 @@ std::size_t drop_fragments(TriangleMesh& mesh, std::vector<std::uint8_t>& from_t
   return pieces - 1;
 }
 
+// Tubes whose paths (bore radius about the axis, from above the sleeve to the planned depth, 20 mm
+// into the bone when none is planned) come within 1 mm of each other: a pin or drill would meet or
+// weaken the other's hole.
+void note_near_paths(const std::vector<TubeSpec>& tubes, std::vector<TubePlacement>& placements) {
+  auto path_end = [&](std::size_t i) { return tube_point(tubes[i], -(tubes[i].depth > 0.0 ? tubes[i].depth : 20.0)); };
+  for (std::size_t i = 0; i < tubes.size(); ++i)
+    for (std::size_t j = i + 1; j < tubes.size(); ++j) {
+      const double gap = segment_segment_distance(tube_point(tubes[i], placements[i].bore_top), path_end(i),
+                                                  tube_point(tubes[j], placements[j].bore_top), path_end(j)) -
+                         tubes[i].inner_radius - tubes[j].inner_radius;
+      if (gap >= 1.0) continue;
+      placements[i].near.push_back("tube '" + tubes[j].name + "' (" + detail::mm(std::max(gap, 0.0)) + ")");
+      placements[j].near.push_back("tube '" + tubes[i].name + "' (" + detail::mm(std::max(gap, 0.0)) + ")");
+    }
+}
+
 // Each slot's cut against the other slots' housings and cuts and the tubes' sleeves and bores: what
 // it meets is reported (a slot through a sleeve weakens it; two slots crossing cut off a piece).
 void note_slot_meetings(const std::vector<TubeSpec>& tubes, const std::vector<SlotSpec>& slots,
@@ -448,7 +467,16 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
     unite(bores, rounded(cylinder_mesh(tube_cylinder(tubes[i], tubes[i].inner_radius, p.bore_bottom, p.bore_top),
                                        options.chordal_tolerance, true)));
   }
+  for (std::size_t i = 0; i < tubes.size(); ++i) {
+    if (!tubes[i].counterbore) continue;
+    TubePlacement& p = result.tubes[i];
+    p.counterbore_bottom = p.sleeve_top - tubes[i].counterbore->depth;
+    unite(bores, rounded(cylinder_mesh(
+                     tube_cylinder(tubes[i], tubes[i].counterbore->radius, *p.counterbore_bottom, p.bore_top),
+                     options.chordal_tolerance, true)));
+  }
   for (std::size_t i = 0; i < slots.size(); ++i) unite(bores, slot_cut(slots[i], result.slots[i]));
+  note_near_paths(tubes, result.tubes);
   note_slot_meetings(tubes, slots, housings, options, result);
   BooleanResult cut = mesh_boolean(result.mesh, bores, BooleanOp::Difference, quick);
   note(cut);

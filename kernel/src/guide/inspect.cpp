@@ -13,29 +13,6 @@ namespace st {
 
 namespace {
 
-double segment_segment_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1) {
-  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
-  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r), c = d1.dot(r), b = d1.dot(d2);
-  if (a <= 1e-300 || e <= 1e-300) { // a point: its distance to the other segment
-    const Vec3 p = a <= 1e-300 ? p0 : q0;
-    const Vec3 s0 = a <= 1e-300 ? q0 : p0, sd = a <= 1e-300 ? d2 : d1;
-    const double len = sd.squaredNorm();
-    const double t = len > 1e-300 ? std::clamp((p - s0).dot(sd) / len, 0.0, 1.0) : 0.0;
-    return (s0 + t * sd - p).norm();
-  }
-  const double denom = a * e - b * b;
-  double s = denom > 1e-300 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-  double t = (b * s + f) / e;
-  if (t < 0.0) {
-    t = 0.0;
-    s = std::clamp(-c / a, 0.0, 1.0);
-  } else if (t > 1.0) {
-    t = 1.0;
-    s = std::clamp((b - c) / a, 0.0, 1.0);
-  }
-  return (p0 + s * d1 - (q0 + t * d2)).norm();
-}
-
 /// Whether p lies behind the bone surface (inside the bone) seen from its closest point c: by the
 /// closest face's normal when c is inside that face, else (c on an edge or a vertex) by the sum of
 /// the normals of every face that c lies on, the pseudo-normal that decides sharp crests and grooves
@@ -63,6 +40,29 @@ bool behind_surface(const TriangleMesh& bone, const AabbTree& tree, const Vec3& 
 }
 
 } // namespace
+
+double segment_segment_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1) {
+  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r), c = d1.dot(r), b = d1.dot(d2);
+  if (a <= 1e-300 || e <= 1e-300) { // a point: its distance to the other segment
+    const Vec3 p = a <= 1e-300 ? p0 : q0;
+    const Vec3 s0 = a <= 1e-300 ? q0 : p0, sd = a <= 1e-300 ? d2 : d1;
+    const double len = sd.squaredNorm();
+    const double t = len > 1e-300 ? std::clamp((p - s0).dot(sd) / len, 0.0, 1.0) : 0.0;
+    return (s0 + t * sd - p).norm();
+  }
+  const double denom = a * e - b * b;
+  double s = denom > 1e-300 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+  double t = (b * s + f) / e;
+  if (t < 0.0) {
+    t = 0.0;
+    s = std::clamp(-c / a, 0.0, 1.0);
+  } else if (t > 1.0) {
+    t = 1.0;
+    s = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+  return (p0 + s * d1 - (q0 + t * d2)).norm();
+}
 
 double segment_triangle_distance(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b, const Vec3& c) {
   if (segment_intersects_triangle(p0, p1, a, b, c)) return 0.0;

@@ -154,11 +154,26 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
       const std::string key = "tubes[" + std::to_string(i) + "]";
       const json& t = tubes[i];
       if (!t.is_object()) r.fail(key, "must be an object");
-      r.unknown_keys(
-          t, {"name", "entry", "direction", "inner_radius", "outer_radius", "length", "offset", "depth", "markups"},
-          key + ".", c.warnings);
+      r.unknown_keys(t,
+                     {"name", "entry", "direction", "inner_radius", "outer_radius", "length", "offset", "depth",
+                      "markups", "kind", "counterbore"},
+                     key + ".", c.warnings);
       TubeSpec tube;
       tube.name = t.contains("name") ? r.string(t["name"], key + ".name") : std::to_string(i + 1);
+      if (t.contains("kind")) {
+        const std::string kind = r.string(t["kind"], key + ".kind");
+        const auto named = tube_kind_named(kind);
+        if (!named) r.fail(key + ".kind", "must be \"sleeve\" or \"pin\", got \"" + kind + "\"");
+        tube.kind = *named;
+      }
+      if (t.contains("counterbore")) {
+        const json& cb = t["counterbore"];
+        if (!cb.is_object()) r.fail(key + ".counterbore", "must be an object {\"radius\": r, \"depth\": d}");
+        r.unknown_keys(cb, {"radius", "depth"}, key + ".counterbore.", c.warnings);
+        tube.counterbore =
+            Counterbore{r.number(r.required(cb, "radius", key + ".counterbore.radius"), key + ".counterbore.radius"),
+                        r.number(r.required(cb, "depth", key + ".counterbore.depth"), key + ".counterbore.depth")};
+      }
       if (t.contains("markups")) {
         if (t.contains("entry") || t.contains("direction"))
           r.fail(key, "give either markups or entry and direction, not both");
@@ -172,11 +187,15 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
         if (!t.contains("name")) tube.name = plan.axes[0].name;
       } else {
         tube.entry = r.point(r.required(t, "entry", key + ".entry"), key + ".entry");
-        tube.direction = r.point(r.required(t, "direction", key + ".direction"), key + ".direction");
-        const double len = tube.direction.stableNorm(); // no overflow for huge components
-        if (!(len > 1e-12)) r.fail(key + ".direction", "must be non-zero");
-        tube.direction /= len;
-        if (!tube.direction.allFinite()) r.fail(key + ".direction", "must be a finite, non-zero vector");
+        if (tube.kind == TubeKind::pin && !t.contains("direction")) {
+          tube.auto_direction = true; // into the bone from the entry (pin_direction), when designed
+        } else {
+          tube.direction = r.point(r.required(t, "direction", key + ".direction"), key + ".direction");
+          const double len = tube.direction.stableNorm(); // no overflow for huge components
+          if (!(len > 1e-12)) r.fail(key + ".direction", "must be non-zero");
+          tube.direction /= len;
+          if (!tube.direction.allFinite()) r.fail(key + ".direction", "must be a finite, non-zero vector");
+        }
       }
       tube.inner_radius = r.number(r.required(t, "inner_radius", key + ".inner_radius"), key + ".inner_radius");
       tube.outer_radius = r.number(r.required(t, "outer_radius", key + ".outer_radius"), key + ".outer_radius");
@@ -223,11 +242,13 @@ std::string case_json(const CaseFile& c, const std::string& path) {
   for (const TubeSpec& t : c.tubes) {
     json tube = {{"name", t.name},
                  {"entry", point(t.entry)},
-                 {"direction", point(t.direction)},
                  {"inner_radius", t.inner_radius},
                  {"outer_radius", t.outer_radius},
                  {"length", t.length},
                  {"offset", t.offset}};
+    if (!t.auto_direction) tube["direction"] = point(t.direction);
+    if (t.kind != TubeKind::sleeve) tube["kind"] = tube_kind_name(t.kind);
+    if (t.counterbore) tube["counterbore"] = {{"radius", t.counterbore->radius}, {"depth", t.counterbore->depth}};
     if (t.depth > 0.0) tube["depth"] = t.depth;
     doc["tubes"].push_back(tube);
   }

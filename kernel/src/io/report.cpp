@@ -28,13 +28,18 @@ nlohmann::json to_json(const DistanceStats& s) {
 }
 
 nlohmann::json to_json(const TubePlacement& p) {
-  return {{"name", p.name},
-          {"sleeve", {p.sleeve_bottom, p.sleeve_top}},
-          {"column_bottom", p.column_bottom},
-          {"template", {p.template_bottom, p.template_top}},
-          {"bore", {p.bore_bottom, p.bore_top}},
-          {"inside_template", p.sleeve_inside_template},
-          {"trimmed_by_bone", p.trimmed_by_bone}};
+  nlohmann::json out = {{"name", p.name},
+                        {"kind", tube_kind_name(p.kind)},
+                        {"direction", xyz(p.direction)},
+                        {"sleeve", {p.sleeve_bottom, p.sleeve_top}},
+                        {"column_bottom", p.column_bottom},
+                        {"template", {p.template_bottom, p.template_top}},
+                        {"bore", {p.bore_bottom, p.bore_top}},
+                        {"inside_template", p.sleeve_inside_template},
+                        {"trimmed_by_bone", p.trimmed_by_bone},
+                        {"near", p.near}};
+  if (p.counterbore_bottom) out["counterbore"] = {*p.counterbore_bottom, p.bore_top};
+  return out;
 }
 
 nlohmann::json to_json(const SlotPlacement& p) {

@@ -18,9 +18,11 @@
 // through to the bone.
 
 #include "st/guide/slot.h"
+#include "st/guide/sleeve.h"
 #include "st/guide/tube.h"
 #include "st/core/mesh.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,16 +37,22 @@ struct GuideOptions {
 /// What was decided for one tube; heights z along its axis from the entry, outward (sleeve.h).
 struct TubePlacement {
   std::string name;
-  double sleeve_bottom = 0.0;   ///< offset: the sleeve's lower end as planned
-  double sleeve_top = 0.0;      ///< offset + length
-  double column_bottom = 0.0;   ///< where the sleeve's outer wall stops, inside the template wall
-  double foot_lift = 0.0;       ///< the column's foot stays this far above bone + clearance
-  double template_top = 0.0;    ///< highest point where the template lies under the sleeve
-  double template_bottom = 0.0; ///< lowest point of the template's inner surface under the sleeve
+  TubeKind kind = TubeKind::sleeve;
+  Vec3 direction = Vec3::Zero(); ///< the drilling direction as built (a pin's decided from the bone when not planned)
+  double sleeve_bottom = 0.0;    ///< offset: the sleeve's lower end as planned
+  double sleeve_top = 0.0;       ///< offset + length
+  double column_bottom = 0.0;    ///< where the sleeve's outer wall stops, inside the template wall
+  double foot_lift = 0.0;        ///< the column's foot stays this far above bone + clearance
+  double template_top = 0.0;     ///< highest point where the template lies under the sleeve
+  double template_bottom = 0.0;  ///< lowest point of the template's inner surface under the sleeve
   double bore_bottom = 0.0;
   double bore_top = 0.0;
-  bool sleeve_inside_template = false; ///< the whole sleeve lies inside the template's wall
-  bool trimmed_by_bone = false;        ///< bone rises to the sleeve's top beside the bore: the sleeve is notched
+  bool sleeve_inside_template = false;      ///< the whole sleeve lies inside the template's wall
+  bool trimmed_by_bone = false;             ///< bone rises to the sleeve's top beside the bore: the sleeve is notched
+  std::optional<double> counterbore_bottom; ///< with a counterbore: it is cut from here up (sleeve top - its depth)
+  /// Tubes whose path (from above the sleeve to the planned depth into the bone, 20 mm when none is
+  /// planned) passes within 1 mm of this one's (bore to bore): "tube 't2' (0.40 mm)".
+  std::vector<std::string> near;
 };
 
 /// What was decided for one saw slot; heights z along its frame's up from the origin (slot.h).

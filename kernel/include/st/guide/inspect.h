@@ -36,6 +36,9 @@ struct GuideInspection {
   [[nodiscard]] std::string summary() const;
 };
 
+/// Distance between segments [p0, p1] and [q0, q1].
+double segment_segment_distance(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1);
+
 /// Distance between segment [p0, p1] and triangle (a, b, c) (0 when they meet).
 double segment_triangle_distance(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b, const Vec3& c);
 

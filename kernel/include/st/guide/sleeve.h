@@ -7,8 +7,9 @@
 // outward along the axis, i.e. against the drilling direction: the sleeve is the hollow cylinder
 // inner_radius <= r <= outer_radius, offset <= z <= offset + length.
 
-#include "st/guide/tube.h"
+#include "st/core/aabb_tree.h"
 #include "st/core/mesh.h"
+#include "st/guide/tube.h"
 
 #include <functional>
 
@@ -55,5 +56,11 @@ TriangleMesh cylinder_mesh(const Cylinder& cylinder, double chordal_tolerance, b
 /// segments, so a foot that follows the bone keeps the whole solid out of it.
 TriangleMesh footed_cylinder_mesh(const Cylinder& cylinder, double chordal_tolerance,
                                   const std::function<double(const Vec3&)>& foot);
+
+/// The direction into the bone for a tube planned by its entry only (a fixation pin): against the
+/// area-weighted mean normal of the bone's faces within `radius` of the entry (the bone's outward
+/// normals). Throws GeometryError naming the tube when no bone lies within `radius` of the entry or
+/// the normals there cancel (less than a fifth of the area faces one way: an edge or a thin crest).
+Vec3 pin_direction(const TubeSpec& tube, const AabbTree& bone, double radius);
 
 } // namespace st

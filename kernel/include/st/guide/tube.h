@@ -9,8 +9,22 @@
 
 namespace st {
 
+/// What a tube guides: a drill (a sleeve, the default) or a fixation pin (a K-wire or a screw).
+enum class TubeKind { sleeve, pin };
+
+/// A wider hole for a screw's head, from the sleeve's top down `depth`.
+struct Counterbore {
+  double radius = 0.0;
+  double depth = 0.0;
+};
+
 struct TubeSpec {
   std::string name;
+  TubeKind kind = TubeKind::sleeve;
+  std::optional<Counterbore> counterbore;
+  /// No direction was planned (a pin): design_template sets `direction` into the bone from the entry
+  /// (pin_direction) before anything is built.
+  bool auto_direction = false;
   Vec3 entry = Vec3::Zero();
   Vec3 direction = Vec3::UnitZ(); ///< unit, pointing into the bone
   double inner_radius = 0.0;
@@ -28,11 +42,16 @@ struct TubeProblem {
 };
 
 /// The first rule the sizes of `t` break (0 < inner_radius < outer_radius, length > 0, offset >= 0,
-/// depth >= 0, all finite and under the limits of st/core/tolerances.h), or nothing.
+/// depth >= 0, a counterbore wider than the bore and 0 < its depth, all finite and under the limits
+/// of st/core/tolerances.h), or nothing.
 std::optional<TubeProblem> tube_size_problem(const TubeSpec& t);
 
-/// Checks all of a tube's numbers: entry finite, direction finite and non-zero, then the sizes.
-/// Throws InvalidInput "tube '<name>': <key> <reason>".
+/// Checks all of a tube's numbers: entry finite, direction finite and non-zero (unless
+/// auto_direction), then the sizes. Throws InvalidInput "tube '<name>': <key> <reason>".
 void check_tube(const TubeSpec& t);
+
+/// "sleeve" or "pin"; the kind named so, or nothing.
+const char* tube_kind_name(TubeKind kind);
+std::optional<TubeKind> tube_kind_named(const std::string& name);
 
 } // namespace st
