@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Benchmark of what a design checks beyond the paper's steps, per example case: the insertion
 analysis (undercut, least-undercut direction), the block-out, the removal check and the stability
-analysis (contacts, free motions, score, press point), next to the whole run as the user meets it
+analysis (contacts, free motions, score, press point), next to what the guide carries (sleeves, pins
+and saw slots, and the Boolean step that merges and cuts them) and the whole run as the user meets it
 (read, design, validation, write: the tool's wall clock).
 
 Runs `surgical-template design CASE --report` several times per case, takes the median of every
@@ -22,7 +23,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 CASES = os.path.join(ROOT, "examples", "cases")
 
-TIMES = [("insertion_analysis", "insertion analysis"), ("block_out", "block-out"),
+TIMES = [("boolean_operation", "tubes and slots (Boolean)"), ("insertion_analysis", "insertion analysis"), ("block_out", "block-out"),
          ("removal_check", "removal check"), ("stability", "stability"), ("validation", "validation (all)"),
          ("wall_clock", "whole run")]
 
@@ -34,8 +35,8 @@ def main():
     ap.add_argument("--write", action="store_true")
     args = ap.parse_args()
     tool = os.path.join(args.build, "surgical-template")
-    lines = ["| case | contacts | score | free motions | removable | " + " | ".join(l for _, l in TIMES) + " |",
-             "|---|---:|---:|---:|---|" + "---:|" * len(TIMES)]
+    lines = ["| case | carries | contacts | score | free motions | removable | " + " | ".join(l for _, l in TIMES) +
+             " |", "|---|---|---:|---:|---:|---|" + "---:|" * len(TIMES)]
     with tempfile.TemporaryDirectory() as work:
         for name in sorted(os.listdir(CASES)):
             if not name.endswith(".json"):
@@ -54,7 +55,10 @@ def main():
             first = reports[0]
             s = first.get("stability", {})
             med = {k: statistics.median(r["times"].get(k, 0.0) for r in reports) for k, _ in TIMES}
-            lines.append(f"| {name[:-5]} | {s.get('contacts', 0):,} | {s.get('score', 0.0):.2f} | "
+            kinds = [t.get("kind", "sleeve") for t in first.get("tubes", [])]
+            carries = ", ".join(f"{n} {w}" for n, w in ((kinds.count("sleeve"), "sleeves"), (kinds.count("pin"), "pins"),
+                                                        (len(first.get("slots", [])), "slots")) if n) or "-"
+            lines.append(f"| {name[:-5]} | {carries} | {s.get('contacts', 0):,} | {s.get('score', 0.0):.2f} | "
                          f"{len(s.get('free_motions', []))} | "
                          f"{'yes' if first.get('insertion', {}).get('removable') else 'no'} | " +
                          " | ".join(f"{med[k]:.3f}" for k, _ in TIMES) + " |")

@@ -70,6 +70,11 @@ py::dict preset_dict(const SleevePreset& p) {
   d["outer_radius"] = p.outer_radius;
   d["length"] = p.length;
   d["offset"] = p.offset;
+  d["kind"] = tube_kind_name(p.kind);
+  d["counterbore"] =
+      p.counterbore
+          ? py::object(py::dict(py::arg("radius") = p.counterbore->radius, py::arg("depth") = p.counterbore->depth))
+          : py::object(py::none());
   return d;
 }
 
@@ -81,6 +86,15 @@ SleevePreset to_preset(const py::dict& d) {
   p.outer_radius = d["outer_radius"].cast<double>();
   p.length = d["length"].cast<double>();
   p.offset = d.contains("offset") ? d["offset"].cast<double>() : 0.0;
+  if (d.contains("kind") && !d["kind"].is_none()) {
+    const auto kind = tube_kind_named(py::str(d["kind"]).cast<std::string>());
+    if (!kind) throw InvalidInput("preset '" + p.name + "': kind must be \"sleeve\" or \"pin\"");
+    p.kind = *kind;
+  }
+  if (d.contains("counterbore") && !d["counterbore"].is_none()) {
+    const py::dict cb = d["counterbore"];
+    p.counterbore = Counterbore{cb["radius"].cast<double>(), cb["depth"].cast<double>()};
+  }
   return p;
 }
 

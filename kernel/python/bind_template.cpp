@@ -5,6 +5,7 @@
 #include "st/design/ruled_surface.h"
 #include "st/design/surface_curve.h"
 #include "st/guide/guide.h"
+#include "st/guide/sleeve.h"
 #include "st/design/template_design.h"
 #include "st/core/topology.h"
 
@@ -194,4 +195,23 @@ void bind_template(py::module_& m) {
       "(design_template's 'body' and 'inner_faces'), cutting their bores. Returns a dict with 'mesh', 'from_tube', "
       "'tubes' (placements), 'seconds'. Raises ValueError for a bad tube, RuntimeError for one that misses the "
       "template or runs into the bone.");
+
+  m.def(
+      "pin_direction",
+      [](const Points& bv, const Faces& bf, const py::object& entry, double outer_radius, const std::string& name) {
+        const TriangleMesh bone = to_mesh(bv, bf, "bone");
+        TubeSpec t;
+        t.name = name;
+        const auto at = to_optional_point(entry, "entry");
+        if (!at) throw InvalidInput("entry: must be a point");
+        t.entry = *at;
+        const AabbTree tree(bone);
+        const Vec3 d = pin_direction(t, tree, std::max(3.0, 2.0 * outer_radius));
+        return from_points({d}).attr("reshape")(3);
+      },
+      py::arg("bone_vertices"), py::arg("bone_triangles"), py::arg("entry"), py::arg("outer_radius"),
+      py::arg("name") = "pin",
+      "The direction into the bone for a pin planned by its entry only (what design_template gives it): against "
+      "the mean outward normal of the bone within max(3, 2 x outer_radius) mm of the entry. RuntimeError naming the "
+      "pin on an edge (the normals cancel) or away from the bone.");
 }

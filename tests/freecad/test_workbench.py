@@ -79,3 +79,13 @@ def test_insertion_is_kept_by_cases_and_measured(run):
     # set_insertion (the "Insertion from view" command's call) makes the template use that direction.
     assert ins["set_mode"] == "Direction"
     assert ins["set_used"] == pytest.approx([0, 0, -1], abs=1e-9)
+
+
+def test_a_cutting_guide_case_loads_with_its_pins(run):
+    """The tibia example (slots and pins): the pins become tubes, the one planned without a direction
+    gets the kernel's (into the bone from its entry); the guide without the slots stays valid."""
+    tree = run["tibia_tree"]
+    assert tree["tubes"] == ["proximal pin", "distal screw"]
+    d, want = tree["direction"][0], tree["kernel_direction"]
+    assert sum(a * b for a, b in zip(d, want)) == pytest.approx(1.0, abs=1e-6)
+    assert valid(run["tibia"])

@@ -319,6 +319,43 @@ TEST(Plan, SleeveCatalogue) {
             std::string::npos);
 }
 
+TEST(Plan, PinPresetsMakePinsWithTheirCounterbores) {
+  // The catalogue's pin presets: a K-wire, and screws whose heads sink into a counterbore.
+  const std::vector<SleevePreset>& presets = default_sleeve_presets();
+  const SleevePreset& screw = find_sleeve_preset(presets, "pin-screw-2.7");
+  EXPECT_EQ(screw.kind, TubeKind::pin);
+  ASSERT_TRUE(screw.counterbore.has_value());
+  EXPECT_DOUBLE_EQ(screw.counterbore->radius, 2.6);
+  EXPECT_EQ(find_sleeve_preset(presets, "pin-kwire-1.6").kind, TubeKind::pin);
+  EXPECT_FALSE(find_sleeve_preset(presets, "pin-kwire-1.6").counterbore.has_value());
+  PlanAxis axis;
+  axis.name = "p1";
+  axis.source = "plan.csv";
+  axis.entry = {0, 0, 0};
+  axis.direction = {0, 0, -1};
+  const TubeSpec t = tube_from_axis(axis, screw);
+  EXPECT_EQ(t.kind, TubeKind::pin);
+  ASSERT_TRUE(t.counterbore.has_value());
+  EXPECT_DOUBLE_EQ(t.counterbore->depth, 3.0);
+  const auto catalogue = [](const std::string& sleeves) {
+    return R"({"format": "surgical-template-sleeves/1", "sleeves": [)" + sleeves + "]}";
+  };
+  const std::string sizes = R"("name": "P", "inner_diameter": 2, "outer_diameter": 5, "length": 8)";
+  EXPECT_NE(error_of([&] {
+              parse_sleeve_presets(catalogue("{" + sizes + R"(, "kind": "nail"})"), "my.json");
+            }).find("my.json: sleeves[0].kind"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              parse_sleeve_presets(catalogue("{" + sizes + R"(, "counterbore_diameter": 4})"), "my.json");
+            }).find("together"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              parse_sleeve_presets(catalogue("{" + sizes + R"(, "counterbore_diameter": 1, "counterbore_depth": 2})"),
+                                   "my.json");
+            }).find("sleeves[0].counterbore_diameter: must be > inner_radius"),
+            std::string::npos);
+}
+
 TEST(Plan, AxesBecomeTubesWithSizesFromThePlanOrAPreset) {
   const Plan p = parse_markups(kMarkups, "plan.mrk.json", Space::LPS);
   EXPECT_NE(

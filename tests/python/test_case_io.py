@@ -65,3 +65,24 @@ def test_slots_read_written_and_designed_through_the_module(stk, tmp_path):
     for s, planned in zip(r["slots"], case["slots"]):
         assert s["blade_path_free"]
         assert s["width"] == pytest.approx(planned["blade"] + 2 * planned["clearance"])
+
+
+def test_pins_from_presets_and_the_direction_into_the_bone(stk):
+    """A pin preset makes a pin tube with its counterbore; a pin planned by its entry only gets the
+    direction into the bone there (against the surface's normal)."""
+    screw = stk.find_sleeve_preset(stk.sleeve_presets(), "pin-screw-2.7")
+    assert screw["kind"] == "pin" and screw["counterbore"]["radius"] == pytest.approx(2.6)
+    tube = stk.tube_from_axis({"name": "p", "entry": [0, 0, 0], "direction": [0, 0, -1]}, screw)
+    assert tube["kind"] == "pin" and tube["counterbore"]["depth"] == pytest.approx(3.0)
+    # A tilted plane z = 0.5 x: outward normal (-0.5, 0, 1) / |.|; into the bone is its opposite.
+    xs = np.linspace(-10, 10, 21)
+    v = np.array([[x, y, 0.5 * x] for y in xs for x in xs])
+    f = []
+    for j in range(20):
+        for i in range(20):
+            a = j * 21 + i
+            f += [[a, a + 1, a + 22], [a, a + 22, a + 21]]
+    d = stk.pin_direction(v, np.array(f), [0.0, 0.0, 0.0], 1.5)
+    assert np.dot(d, -np.array([-0.5, 0.0, 1.0]) / np.sqrt(1.25)) > 0.9999
+    with pytest.raises(RuntimeError, match="tube 'far'"):
+        stk.pin_direction(v, np.array(f), [0.0, 0.0, 50.0], 1.5, "far")

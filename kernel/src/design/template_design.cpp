@@ -224,6 +224,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     if (!t.auto_direction) continue;
     if (!bone_tree) bone_tree.emplace(bone);
     t.direction = pin_direction(t, *bone_tree, std::max(3.0, 2.0 * t.outer_radius));
+    t.auto_direction = false;
   }
 
   // 1. Inner surface: the boundary curve and the cut.

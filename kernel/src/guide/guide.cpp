@@ -350,8 +350,17 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
 
 GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
                         const GuideParts& parts, const GuideOptions& options) {
-  const std::vector<TubeSpec>& tubes = parts.tubes;
+  std::vector<TubeSpec> tubes = parts.tubes;
   const std::vector<SlotSpec>& slots = parts.slots;
+  // Pins planned by their entry only go into the bone there.
+  if (std::any_of(tubes.begin(), tubes.end(), [](const TubeSpec& t) { return t.auto_direction; })) {
+    const AabbTree all_bone(bone);
+    for (TubeSpec& t : tubes)
+      if (t.auto_direction) {
+        t.direction = pin_direction(t, all_bone, std::max(3.0, 2.0 * t.outer_radius));
+        t.auto_direction = false;
+      }
+  }
   const auto t0 = Clock::now();
   if (!(options.chordal_tolerance > 0.0) || !(options.chordal_tolerance < 1.0))
     throw InvalidInput("chordal tolerance: must be in (0, 1) mm, got " + detail::number(options.chordal_tolerance));

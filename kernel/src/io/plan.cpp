@@ -117,6 +117,10 @@ TubeSpec tube_from_axis(const PlanAxis& axis, const std::optional<SleevePreset>&
   t.outer_radius = size(axis.outer_radius, &SleevePreset::outer_radius, "outer_radius");
   t.length = size(axis.length, &SleevePreset::length, "length");
   t.offset = axis.offset ? *axis.offset : sizes ? sizes->offset : 0.0;
+  if (sizes) {
+    t.kind = sizes->kind;
+    t.counterbore = sizes->counterbore;
+  }
   if (const auto problem = tube_size_problem(t))
     throw InvalidInput(axis.source + ": axis \"" + axis.name + "\": " + problem->key + " " + problem->reason);
   if (!t.entry.allFinite() || !t.direction.allFinite())

@@ -50,14 +50,28 @@ std::vector<SleevePreset> parse_sleeve_presets(const std::string& text, const st
     p.outer_radius = 0.5 * r.number(r.required(s, "outer_diameter", key + ".outer_diameter"), key + ".outer_diameter");
     p.length = r.number(r.required(s, "length", key + ".length"), key + ".length");
     if (s.contains("offset")) p.offset = r.number(s["offset"], key + ".offset");
+    if (s.contains("kind")) {
+      const std::string kind = r.string(s["kind"], key + ".kind");
+      const auto named = tube_kind_named(kind);
+      if (!named) r.fail(key + ".kind", "must be \"sleeve\" or \"pin\", got \"" + kind + "\"");
+      p.kind = *named;
+    }
+    if (s.contains("counterbore_diameter") != s.contains("counterbore_depth"))
+      r.fail(key, "give counterbore_diameter and counterbore_depth together");
+    if (s.contains("counterbore_diameter"))
+      p.counterbore = Counterbore{0.5 * r.number(s["counterbore_diameter"], key + ".counterbore_diameter"),
+                                  r.number(s["counterbore_depth"], key + ".counterbore_depth")};
     TubeSpec t;
     t.inner_radius = p.inner_radius;
     t.outer_radius = p.outer_radius;
     t.length = p.length;
     t.offset = p.offset;
+    t.counterbore = p.counterbore;
     if (const auto problem = tube_size_problem(t)) {
       std::string k = problem->key;
       if (k == "inner_radius" || k == "outer_radius") k = k.substr(0, 5) + "_diameter";
+      if (k == "counterbore.radius") k = "counterbore_diameter";
+      if (k == "counterbore.depth") k = "counterbore_depth";
       r.fail(key + "." + k, problem->reason);
     }
     out.push_back(std::move(p));

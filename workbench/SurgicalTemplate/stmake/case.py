@@ -19,6 +19,24 @@ def export(obj, path):
     return path
 
 
+def _direction(tube, case):
+    """The tube's direction; a pin planned by its entry only gets the one the kernel would give it."""
+    if tube["direction"] is not None:
+        return tube["direction"]
+    k = st_bridge.kernel()
+    v, f = k.read_mesh(case["bone"])
+    return k.pin_direction(v, f, tube["entry"], tube["outer_radius"], tube["name"])
+
+
+def _warn_left_out(case):
+    """What the workbench does not model yet is said, not dropped silently."""
+    left = [f"slot '{s['name']}'" for s in case.get("slots", [])]
+    left += [f"the counterbore of tube '{t['name']}'" for t in case["tubes"] if t.get("counterbore")]
+    if left:
+        App.Console.PrintWarning(f"{case['name']}: the workbench does not model these yet (the command-line tool "
+                                 f"does): {', '.join(left)}\n")
+
+
 def load_case(path, doc=None):
     """Builds the whole parametric tree of a case file (docs/CASE-FORMAT.md) and returns the guide."""
     case = st_bridge.kernel().read_case(path)
@@ -28,8 +46,9 @@ def load_case(path, doc=None):
         boundary = make_boundary(bone, case["boundary_points"], case["inside"])
         shell = make_template(boundary, case["thickness"], case["clearance"], case["resolution"] or 0.0,
                               case["sampling_step"] or 0, insertion=case.get("insertion"))
-        tubes = [make_tube(t["entry"], t["direction"], t["inner_radius"], t["outer_radius"], t["length"],
+        tubes = [make_tube(t["entry"], _direction(t, case), t["inner_radius"], t["outer_radius"], t["length"],
                            t["offset"], name=t["name"], doc=doc, depth=t["depth"]) for t in case["tubes"]]
+        _warn_left_out(case)
         guide = make_guide(shell, tubes)
         guide.Label = case["name"] or "SurgicalGuide"
     doc.recompute()

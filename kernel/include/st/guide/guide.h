@@ -103,10 +103,10 @@ struct GuideResult {
 GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
                       const std::vector<TubeSpec>& tubes, const GuideOptions& options = {});
 
-/// add_tubes with saw slots too: each slot's housing stands on the template like a sleeve's column
-/// (its foot over the bone, the same exact clipping), united with the columns and the shell; each slot
-/// is cut with the bores, from above its housing down past the template's inner surface. Throws
-/// InvalidInput for a bad slot (naming it and the key) and GeometryError for a slot that misses the
+/// add_tubes with saw slots too (and pins planned without a direction given theirs, pin_direction): each slot's housing
+/// stands on the template like a sleeve's column (its foot over the bone, the same exact clipping), united with the
+/// columns and the shell; each slot is cut with the bores, from above its housing down past the template's inner
+/// surface. Throws InvalidInput for a bad slot (naming it and the key) and GeometryError for a slot that misses the
 /// template or whose housing the bone reaches (naming it and the place).
 GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
                         const GuideParts& parts, const GuideOptions& options = {});

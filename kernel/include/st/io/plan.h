@@ -93,10 +93,13 @@ struct SleevePreset {
   double outer_radius = 0.0;
   double length = 0.0;
   double offset = 0.0;
+  TubeKind kind = TubeKind::sleeve;       ///< a pin preset makes pins (tube.h)
+  std::optional<Counterbore> counterbore; ///< for a screw's head
 };
 
 /// Parses a sleeve catalogue: {"format": "surgical-template-sleeves/1", "sleeves": [{"name",
-/// "inner_diameter", "outer_diameter", "length", "offset"?, "description"?}]}; diameters and lengths in mm.
+/// "inner_diameter", "outer_diameter", "length", "offset"?, "description"?, "kind"? ("sleeve" or "pin"),
+/// "counterbore_diameter"?, "counterbore_depth"? (both or neither)}]}; diameters and lengths in mm.
 std::vector<SleevePreset> parse_sleeve_presets(const std::string& text, const std::string& path);
 std::vector<SleevePreset> read_sleeve_presets(const std::string& path);
 
