@@ -56,8 +56,8 @@ def main():
             s = first.get("stability", {})
             med = {k: statistics.median(r["times"].get(k, 0.0) for r in reports) for k, _ in TIMES}
             kinds = [t.get("kind", "sleeve") for t in first.get("tubes", [])]
-            carries = ", ".join(f"{n} {w}" for n, w in ((kinds.count("sleeve"), "sleeves"), (kinds.count("pin"), "pins"),
-                                                        (len(first.get("slots", [])), "slots")) if n) or "-"
+            counts = ((kinds.count("sleeve"), "sleeve"), (kinds.count("pin"), "pin"), (len(first.get("slots", [])), "slot"))
+            carries = ", ".join(f"{n} {w}{'s' if n > 1 else ''}" for n, w in counts if n) or "-"
             lines.append(f"| {name[:-5]} | {carries} | {s.get('contacts', 0):,} | {s.get('score', 0.0):.2f} | "
                          f"{len(s.get('free_motions', []))} | "
                          f"{'yes' if first.get('insertion', {}).get('removable') else 'no'} | " +
