@@ -9,6 +9,8 @@
 #include "st/design/template_design.h"
 #include "st/core/topology.h"
 
+#include <cstdio>
+
 namespace py = pybind11;
 using namespace st;
 using namespace st::py_convert;
@@ -172,26 +174,35 @@ void bind_template(py::module_& m) {
   m.def(
       "add_tubes",
       [](const Points& sv, const Faces& sf, std::size_t inner_faces, const Points& bv, const Faces& bf,
-         const py::object& tubes, double chordal_tolerance, double clearance) {
+         const py::object& tubes, double chordal_tolerance, double clearance, const py::object& slots) {
         const TriangleMesh shell = to_mesh(sv, sf, "shell");
         const TriangleMesh bone = to_mesh(bv, bf, "bone");
         GuideOptions o;
         o.chordal_tolerance = chordal_tolerance;
         o.clearance = clearance;
-        const std::vector<TubeSpec> specs = to_tubes(tubes);
+        const GuideParts parts{to_tubes(tubes), to_slots(slots)};
         GuideResult g;
         {
           py::gil_scoped_release release;
-          g = add_tubes(shell, inner_faces, bone, specs, o);
+          g = build_guide(shell, inner_faces, bone, parts, o);
+          for (std::size_t i = 0; i < parts.slots.size(); ++i)
+            if (const auto at = check_blade_path(g.mesh, parts.slots[i], g.slots[i]).blocked) {
+              char where[96];
+              std::snprintf(where, sizeof where, "(%.2f, %.2f, %.2f)", at->x(), at->y(), at->z());
+              throw GeometryError("slot '" + parts.slots[i].name +
+                                  "': guide material is left in the blade's path near " + where);
+            }
         }
-        py::dict d = from_json(to_json(g)); // tubes, seconds, perturbed_operations, ...
+        py::dict d = from_json(to_json(g)); // tubes, slots, seconds, perturbed_operations, ...
         d["mesh"] = from_mesh(g.mesh);
         d["from_tube"] = py::array_t<std::uint8_t>(static_cast<py::ssize_t>(g.from_tube.size()), g.from_tube.data());
         return d;
       },
       py::arg("shell_vertices"), py::arg("shell_triangles"), py::arg("inner_faces"), py::arg("bone_vertices"),
       py::arg("bone_triangles"), py::arg("tubes"), py::arg("chordal_tolerance") = 0.01, py::arg("clearance") = 0.0,
-      "Merges drilling tubes into a closed template shell whose first `inner_faces` faces are its inner surface "
+      py::arg("slots") = py::none(),
+      "Merges drilling tubes (and saw slots: dicts with the case file's slot keys, their blade paths checked) into a "
+      "closed template shell whose first `inner_faces` faces are its inner surface "
       "(design_template's 'body' and 'inner_faces'), cutting their bores. Returns a dict with 'mesh', 'from_tube', "
       "'tubes' (placements), 'seconds'. Raises ValueError for a bad tube, RuntimeError for one that misses the "
       "template or runs into the bone.");

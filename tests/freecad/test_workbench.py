@@ -81,11 +81,18 @@ def test_insertion_is_kept_by_cases_and_measured(run):
     assert ins["set_used"] == pytest.approx([0, 0, -1], abs=1e-9)
 
 
-def test_a_cutting_guide_case_loads_with_its_pins(run):
-    """The tibia example (slots and pins): the pins become tubes, the one planned without a direction
-    gets the kernel's (into the bone from its entry); the guide without the slots stays valid."""
+def test_a_cutting_guide_case_loads_with_its_pins_and_slots(run):
+    """The tibia example (two saw slots, two pins): the pins become tubes of kind pin, the one planned
+    without a direction gets the kernel's (into the bone from its entry), the screw keeps its
+    counterbore; the slots are cut in the guide (it loses material with them) and a case saved from the
+    guide keeps slots, kinds and counterbore."""
     tree = run["tibia_tree"]
     assert tree["tubes"] == ["proximal pin", "distal screw"]
+    assert tree["kinds"] == ["pin", "pin"] and tree["saved_kinds"] == ["pin", "pin"]
+    assert tree["counterbore"] == [pytest.approx(2.2), pytest.approx(3.0)]
+    assert tree["saved_counterbore"] == {"radius": pytest.approx(2.2), "depth": pytest.approx(3.0)}
     d, want = tree["direction"][0], tree["kernel_direction"]
     assert sum(a * b for a, b in zip(d, want)) == pytest.approx(1.0, abs=1e-6)
-    assert valid(run["tibia"])
+    assert tree["slots"] == ["proximal cut", "distal cut"] and tree["saved_slots"] == tree["slots"]
+    assert valid(run["tibia"]) and valid(run["tibia_without_slots"])
+    assert run["tibia"]["volume"] != pytest.approx(run["tibia_without_slots"]["volume"], rel=1e-3)

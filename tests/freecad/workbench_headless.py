@@ -108,8 +108,9 @@ st.set_insertion(again.Shell, (0, 0, -2))
 again.Document.recompute()
 result["insertion"]["set_mode"] = again.Shell.Insertion
 result["insertion"]["set_used"] = list(again.Shell.InsertionUsed)
-# The tibia cutting guide: its pins load as tubes (one planned without a direction gets the kernel's),
-# its slots are said to be left out (the workbench does not model them yet), the guide stays valid.
+# The tibia cutting guide: its pins load as tubes (one planned without a direction gets the kernel's,
+# the screw keeps its counterbore), its saw slots are cut in the guide, and a case saved from it keeps
+# both.
 tibia = json.load(open(os.path.join(os.path.dirname(case), "tibia-osteotomy.json")))
 tibia["bone"] = os.path.join(os.path.dirname(case), tibia["bone"])
 del tibia["tubes"][0]["direction"]
@@ -119,8 +120,22 @@ json.dump(tibia, open(tibia_path, "w"))
 pinned = st.load_case(tibia_path)
 measure(pinned, "tibia")
 bv, bf = k.read_mesh(tibia["bone"])
-result["tibia_tree"] = {"tubes": [t.Label for t in pinned.Tubes],
+saved_tibia = json.load(open(st.save_case(pinned, os.path.join(out, "tibia-saved.json"))))
+result["tibia_tree"] = {"tubes": [t.Label for t in pinned.Tubes], "kinds": [t.Kind for t in pinned.Tubes],
+                        "counterbore": [pinned.Tubes[1].CounterboreRadius.Value, pinned.Tubes[1].CounterboreDepth.Value],
                         "direction": [list(t.Direction) for t in pinned.Tubes],
                         "kernel_direction": list(k.pin_direction(bv, bf, tibia["tubes"][0]["entry"],
-                                                                 tibia["tubes"][0]["outer_radius"]))}
+                                                                 tibia["tubes"][0]["outer_radius"])),
+                        "slots": [s["name"] for s in json.loads(pinned.Slots)],
+                        "saved_slots": [s["name"] for s in saved_tibia.get("slots", [])],
+                        "saved_kinds": [t.get("kind", "sleeve") for t in saved_tibia["tubes"]],
+                        "saved_counterbore": saved_tibia["tubes"][1].get("counterbore")}
+# The same guide without its slots has more material: the slots are cut.
+slots_text = pinned.Slots
+pinned.Slots = ""
+doc_tibia = pinned.Document
+doc_tibia.recompute()
+measure(pinned, "tibia_without_slots")
+pinned.Slots = slots_text
+doc_tibia.recompute()
 print("RESULT " + json.dumps(result))

@@ -65,6 +65,10 @@ def test_slots_read_written_and_designed_through_the_module(stk, tmp_path):
     for s, planned in zip(r["slots"], case["slots"]):
         assert s["blade_path_free"]
         assert s["width"] == pytest.approx(planned["blade"] + 2 * planned["clearance"])
+    # The workbench's way: the slots added to the designed body (add_tubes) give the same guide.
+    g = stk.add_tubes(*r["body"], r["inner_faces"], v, f, [], clearance=case["clearance"], slots=case["slots"])
+    assert [s["name"] for s in g["slots"]] == ["proximal cut", "distal cut"]
+    assert stk.check_solid(*g["mesh"])["volume"] == pytest.approx(r["solid"]["volume"], rel=1e-9)
 
 
 def test_pins_from_presets_and_the_direction_into_the_bone(stk):

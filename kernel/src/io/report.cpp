@@ -173,7 +173,10 @@ nlohmann::json to_json(const StabilityResult& s) {
 }
 
 nlohmann::json to_json(const GuideResult& g) {
+  nlohmann::json slots = nlohmann::json::array();
+  for (const SlotPlacement& p : g.slots) slots.push_back(to_json(p));
   return {{"tubes", placements(g.tubes)},
+          {"slots", slots},
           {"seconds", g.seconds},
           {"perturbed_operations", g.perturbed_operations},
           {"max_perturbation_mm", g.max_perturbation},

@@ -28,15 +28,6 @@ def _direction(tube, case):
     return k.pin_direction(v, f, tube["entry"], tube["outer_radius"], tube["name"])
 
 
-def _warn_left_out(case):
-    """What the workbench does not model yet is said, not dropped silently."""
-    left = [f"slot '{s['name']}'" for s in case.get("slots", [])]
-    left += [f"the counterbore of tube '{t['name']}'" for t in case["tubes"] if t.get("counterbore")]
-    if left:
-        App.Console.PrintWarning(f"{case['name']}: the workbench does not model these yet (the command-line tool "
-                                 f"does): {', '.join(left)}\n")
-
-
 def load_case(path, doc=None):
     """Builds the whole parametric tree of a case file (docs/CASE-FORMAT.md) and returns the guide."""
     case = st_bridge.kernel().read_case(path)
@@ -47,9 +38,9 @@ def load_case(path, doc=None):
         shell = make_template(boundary, case["thickness"], case["clearance"], case["resolution"] or 0.0,
                               case["sampling_step"] or 0, insertion=case.get("insertion"))
         tubes = [make_tube(t["entry"], _direction(t, case), t["inner_radius"], t["outer_radius"], t["length"],
-                           t["offset"], name=t["name"], doc=doc, depth=t["depth"]) for t in case["tubes"]]
-        _warn_left_out(case)
-        guide = make_guide(shell, tubes)
+                           t["offset"], name=t["name"], doc=doc, depth=t["depth"], kind=t.get("kind"),
+                           counterbore=t.get("counterbore")) for t in case["tubes"]]
+        guide = make_guide(shell, tubes, slots=case.get("slots", []))
         guide.Label = case["name"] or "SurgicalGuide"
     doc.recompute()
     return guide
@@ -74,6 +65,7 @@ def save_case(guide, path, output=None):
         "sampling_step": int(shell.SamplingStep) if shell.SamplingStep > 0 else None,
         "insertion": insertion_argument(shell),
         "tubes": [t.Proxy.spec(t) for t in guide.Tubes],
+        "slots": guide.Proxy.slots_of(guide),
         "output": os.path.join(os.path.dirname(os.path.abspath(path)), output) if output else None,
     }, path)
     return path

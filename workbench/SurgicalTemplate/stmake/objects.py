@@ -100,11 +100,13 @@ def set_insertion(template, direction):
 
 
 def make_tube(entry, direction, inner_radius=None, outer_radius=None, length=None, offset=None, name="Tube",
-              doc=None, preset=None, depth=0.0, guide=None):
+              doc=None, preset=None, depth=0.0, guide=None, kind=None, counterbore=None):
     """A drilling tube (guide sleeve) on a planned axis: entry at the bone, direction into it. Sizes
     not given come from `preset` (a name from sleeve_presets() or one of its dicts; the tube's Preset
     names it when its sizes are the preset's); depth is the planned drilling depth beyond the entry,
-    for the drill protocol. With `guide`, the tube is added to it in the same undo step."""
+    for the drill protocol. kind "pin" makes a fixation pin's tube; counterbore {"radius", "depth"} a
+    hole for a screw's head (both from the preset when not given). With `guide`, the tube is added to
+    it in the same undo step."""
     doc = guide.Document if guide is not None else document(doc)
     sizes = presets.preset(preset) if preset is not None else {}
     given = {"inner_radius": inner_radius, "outer_radius": outer_radius, "length": length, "offset": offset}
@@ -125,6 +127,10 @@ def make_tube(entry, direction, inner_radius=None, outer_radius=None, length=Non
         obj.InnerRadius, obj.OuterRadius = given["inner_radius"], given["outer_radius"]
         obj.Length, obj.Offset = given["length"], given["offset"]
         obj.Depth = depth or 0.0
+        obj.Kind = kind or sizes.get("kind") or "sleeve"
+        counterbore = counterbore or sizes.get("counterbore")
+        if counterbore:
+            obj.CounterboreRadius, obj.CounterboreDepth = counterbore["radius"], counterbore["depth"]
         if sizes.get("name") and all(abs(given[k] - sizes[k]) < 1e-9 for k in given):
             obj.Preset = sizes["name"]
         _view(obj, "SurgicalTemplate_Tube.svg")
@@ -133,8 +139,9 @@ def make_tube(entry, direction, inner_radius=None, outer_radius=None, length=Non
     return obj
 
 
-def make_guide(shell, tubes=(), tolerance=0.01, name="SurgicalGuide"):
-    """The final guide: the template shell with its tubes merged and their bores cut."""
+def make_guide(shell, tubes=(), tolerance=0.01, name="SurgicalGuide", slots=()):
+    """The final guide: the template shell with its tubes merged and their bores cut, and its saw
+    slots (dicts with the case file's slot keys) cut in their housings."""
     doc = shell.Document
     with Step(doc, "Create surgical guide"):
         obj = doc.addObject("Mesh::FeaturePython", name)
@@ -142,6 +149,7 @@ def make_guide(shell, tubes=(), tolerance=0.01, name="SurgicalGuide"):
         obj.Shell = shell
         obj.Tubes = list(tubes)
         obj.Tolerance = tolerance
+        obj.Slots = Guide.slots_text(slots)
         _view(obj, "SurgicalTemplate_Guide.svg")
         if App.GuiUp:
             obj.ViewObject.ShapeColor = (0.20, 0.45, 0.85)

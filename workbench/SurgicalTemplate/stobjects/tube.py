@@ -1,5 +1,6 @@
 """The drilling tube (Part::FeaturePython): a guide sleeve on a planned axis (Entry, Direction, radii,
-Length, Offset; Depth and Preset since 0.2), its solid from the kernel's OpenCASCADE model."""
+Length, Offset; Depth and Preset since 0.2; Kind and the counterbore since 0.3), its solid from the
+kernel's OpenCASCADE model."""
 import FreeCAD as App
 import Part
 
@@ -27,6 +28,17 @@ class Tube(Feature):
         self.add(obj, "App::PropertyLength", "Depth", "Plan",
                  "Planned drilling depth into the bone beyond the entry (drill protocol); 0: not planned", 0.0)
         self.add(obj, "App::PropertyString", "Preset", "Plan", "The sleeve preset the sizes came from", "")
+        self.properties_since_0_3(obj)
+
+    def properties_since_0_3(self, obj):
+        """A tube may be a fixation pin's, with a counterbore for a screw's head (added on restore)."""
+        if "Kind" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyEnumeration", "Kind", "Tube", "What it guides: a drill or a fixation pin")
+            obj.Kind = ["sleeve", "pin"]
+            obj.Kind = "sleeve"
+        self.add(obj, "App::PropertyLength", "CounterboreRadius", "Tube",
+                 "Radius of the hole for a screw's head, from the sleeve's top down; 0: none", 0.0)
+        self.add(obj, "App::PropertyLength", "CounterboreDepth", "Tube", "Depth of that hole", 0.0)
 
     def onDocumentRestored(self, obj):
         self.properties_since_0_2(obj)
@@ -38,6 +50,11 @@ class Tube(Feature):
         depth = float(obj.Depth.Value) if hasattr(obj, "Depth") else 0.0
         if depth > 0:
             s["depth"] = depth
+        if hasattr(obj, "Kind"):
+            s["kind"] = obj.Kind
+            if obj.CounterboreRadius.Value > 0 or obj.CounterboreDepth.Value > 0:
+                s["counterbore"] = {"radius": float(obj.CounterboreRadius.Value),
+                                    "depth": float(obj.CounterboreDepth.Value)}
         return s
 
     def execute(self, obj):
