@@ -105,7 +105,7 @@ void bind_template(py::module_& m) {
       [](const Points& v, const Faces& f, const Points& boundary_points, double thickness, double clearance,
          double resolution, int sampling_step, const py::object& inside, double max_snap_distance, bool check,
          bool simplify_outer, const py::object& tubes, double tube_tolerance, bool fit, const py::object& insertion,
-         const py::object& block_out, const py::object& slots) {
+         const py::object& block_out, const py::object& slots, const py::object& labels) {
         const TriangleMesh bone = to_mesh(v, f, "bone");
         TemplateOptions o;
         o.boundary_points = to_points(boundary_points, "boundary_points");
@@ -120,6 +120,7 @@ void bind_template(py::module_& m) {
         o.simplify_outer = simplify_outer;
         o.tubes = to_tubes(tubes);
         o.slots = to_slots(slots);
+        o.labels = to_labels(labels, true);
         o.tube_tolerance = tube_tolerance;
         o.analyse_insertion = !insertion.is_none();
         o.insertion = to_insertion(insertion).second;
@@ -155,10 +156,12 @@ void bind_template(py::module_& m) {
       py::arg("inside") = py::none(), py::arg("max_snap_distance") = tol::kMaxSnapDistance_mm, py::arg("check") = true,
       py::arg("simplify_outer") = false, py::arg("tubes") = py::none(), py::arg("tube_tolerance") = 0.01,
       py::arg("fit") = true, py::arg("insertion") = py::none(), py::arg("block_out") = py::none(),
-      py::arg("slots") = py::none(),
+      py::arg("slots") = py::none(), py::arg("labels") = py::none(),
       "Designs the template (closed shell) on a bone mesh, with its drilling tubes (dicts with the case file's "
-      "tube keys) merged and bored, and its saw slots (dicts with the case file's slot keys: housing merged, "
-      "slot cut; 'slots' in the result: placements with 'blade_path_free'). Returns a dict with 'shell' (the guide), "
+      "tube keys) merged and bored, its saw slots (dicts with the case file's slot keys: housing merged, "
+      "slot cut; 'slots' in the result: placements with 'blade_path_free') and its labels (dicts with the case "
+      "file's label keys: text engraved or embossed; 'labels' in the result: where each went, its depth, the wall "
+      "left under it, its clearance). Returns a dict with 'shell' (the guide), "
       "'body' (before the tubes; its first "
       "'inner_faces' faces are the inner surface), 'inner', 'outer' (each (vertices, triangles)), 'from_tube' "
       "(per shell face), 'tubes' (placements), 'curve', and the report's 'counts', 'times' (s), 'boolean', 'solid' and "
@@ -174,13 +177,15 @@ void bind_template(py::module_& m) {
   m.def(
       "add_tubes",
       [](const Points& sv, const Faces& sf, std::size_t inner_faces, const Points& bv, const Faces& bf,
-         const py::object& tubes, double chordal_tolerance, double clearance, const py::object& slots) {
+         const py::object& tubes, double chordal_tolerance, double clearance, const py::object& slots,
+         const py::object& labels, double thickness) {
         const TriangleMesh shell = to_mesh(sv, sf, "shell");
         const TriangleMesh bone = to_mesh(bv, bf, "bone");
         GuideOptions o;
         o.chordal_tolerance = chordal_tolerance;
         o.clearance = clearance;
-        const GuideParts parts{to_tubes(tubes), to_slots(slots)};
+        o.thickness = thickness;
+        const GuideParts parts{to_tubes(tubes), to_slots(slots), to_labels(labels, true)};
         GuideResult g;
         {
           py::gil_scoped_release release;
@@ -200,8 +205,10 @@ void bind_template(py::module_& m) {
       },
       py::arg("shell_vertices"), py::arg("shell_triangles"), py::arg("inner_faces"), py::arg("bone_vertices"),
       py::arg("bone_triangles"), py::arg("tubes"), py::arg("chordal_tolerance") = 0.01, py::arg("clearance") = 0.0,
-      py::arg("slots") = py::none(),
-      "Merges drilling tubes (and saw slots: dicts with the case file's slot keys, their blade paths checked) into a "
+      py::arg("slots") = py::none(), py::arg("labels") = py::none(), py::arg("thickness") = 0.0,
+      "Merges drilling tubes (and saw slots: dicts with the case file's slot keys, their blade paths checked; and "
+      "labels: dicts with the case file's label keys, engraved leaving at least thickness - depth of wall when "
+      "thickness > 0) into a "
       "closed template shell whose first `inner_faces` faces are its inner surface "
       "(design_template's 'body' and 'inner_faces'), cutting their bores. Returns a dict with 'mesh', 'from_tube', "
       "'tubes' (placements), 'seconds'. Raises ValueError for a bad tube, RuntimeError for one that misses the "

@@ -7,6 +7,9 @@
 #include "st/core/errors.h"
 #include "st/core/mesh.h"
 #include "st/validate/validate.h"
+#ifdef ST_HAVE_OCCT
+#include "st/occt/occt_text.h"
+#endif
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -225,6 +228,56 @@ inline py::dict slot_dict(const SlotSpec& s) {
   return d;
 }
 
+/// A label from a dict with the case file's label keys (docs/CASE-FORMAT.md), its text's outlines
+/// from the font when the module has OpenCASCADE (else design_template refuses it by name).
+inline LabelSpec to_label(const py::handle& item, const std::string& where) {
+  if (!py::isinstance<py::dict>(item)) throw InvalidInput(where + ": expected a dict with the case file's label keys");
+  const py::dict d = py::reinterpret_borrow<py::dict>(item);
+  const DictFields fields{d, where};
+  LabelSpec l;
+  l.name = d.contains("name") && !d["name"].is_none() ? py::str(d["name"]).cast<std::string>() : where;
+  if (!d.contains("text") || d["text"].is_none()) throw InvalidInput(where + ".text: is required");
+  l.text = py::str(d["text"]).cast<std::string>();
+  l.at = fields.point("at");
+  l.up = fields.point("up");
+  l.height = fields.number("height", 4.0);
+  l.depth = fields.number("depth", 0.6);
+  if (d.contains("mode") && !d["mode"].is_none()) {
+    const std::string mode = py::str(d["mode"]).cast<std::string>();
+    const auto m = label_mode_named(mode);
+    if (!m) throw InvalidInput(where + ".mode: must be \"engrave\" or \"emboss\", got \"" + mode + "\"");
+    l.mode = *m;
+  }
+  if (const auto problem = label_problem(l)) throw InvalidInput(where + "." + problem->key + ": " + problem->reason);
+  return l;
+}
+
+/// The labels of a list of dicts; with `outlines`, their text's outlines too (OpenCASCADE's fonts).
+inline std::vector<LabelSpec> to_labels(const py::object& list, bool outlines) {
+  std::vector<LabelSpec> out;
+  if (list.is_none()) return out;
+  std::size_t i = 0;
+  for (const py::handle item : list) out.push_back(to_label(item, "labels[" + std::to_string(i++) + "]"));
+#ifdef ST_HAVE_OCCT
+  if (outlines) fill_label_outlines(out);
+#else
+  (void)outlines;
+#endif
+  return out;
+}
+
+inline py::dict label_dict(const LabelSpec& l) {
+  py::dict d;
+  d["name"] = l.name;
+  d["text"] = l.text;
+  d["at"] = from_points({l.at}).attr("reshape")(3);
+  d["up"] = from_points({l.up}).attr("reshape")(3);
+  d["height"] = l.height;
+  d["depth"] = l.depth;
+  d["mode"] = label_mode_name(l.mode);
+  return d;
+}
+
 inline py::dict tube_dict(const TubeSpec& t) {
   py::dict td;
   td["name"] = t.name;
@@ -259,8 +312,8 @@ inline std::pair<bool, std::optional<Vec3>> to_insertion(const py::object& o) {
 }
 
 /// A case (CaseFile) as read_case returns it: {path, name, bone, boundary_points, inside, thickness,
-/// clearance, resolution, sampling_step, insertion ("auto", an (3,) array or None), tubes, output,
-/// warnings}; missing optionals are None.
+/// clearance, resolution, sampling_step, insertion ("auto", an (3,) array or None), tubes, slots,
+/// labels, output, warnings}; missing optionals are None.
 inline py::dict case_dict(const CaseFile& c) {
   const auto optional = [](const auto& v) { return v ? py::cast(*v) : py::object(py::none()); };
   py::dict d;
@@ -282,6 +335,9 @@ inline py::dict case_dict(const CaseFile& c) {
   py::list slots;
   for (const SlotSpec& s : c.slots) slots.append(slot_dict(s));
   d["slots"] = slots;
+  py::list labels;
+  for (const LabelSpec& l : c.labels) labels.append(label_dict(l));
+  d["labels"] = labels;
   d["output"] = optional(c.output);
   d["warnings"] = c.warnings;
   return d;
@@ -306,6 +362,7 @@ inline CaseFile to_case(const py::dict& d) {
   if (has("insertion")) std::tie(c.insertion_auto, c.insertion) = to_insertion(d["insertion"]);
   if (has("tubes")) c.tubes = to_tubes(d["tubes"]);
   if (has("slots")) c.slots = to_slots(d["slots"]);
+  if (has("labels")) c.labels = to_labels(d["labels"], false);
   if (has("output")) c.output = py::str(d["output"]).cast<std::string>();
   return c;
 }

@@ -19,6 +19,9 @@
 #include "st/io/report.h"
 #include "st/design/template_design.h"
 #include "st/validate/validate.h"
+#ifdef ST_HAVE_OCCT
+#include "st/occt/occt_text.h"
+#endif
 
 #include <nlohmann/json.hpp>
 #include <sys/resource.h>
@@ -203,6 +206,9 @@ int design(int argc, char** argv) {
       std::cerr << "warning: " << w << "\n";
 
   st::TemplateOptions o = st::template_options(c);
+#ifdef ST_HAVE_OCCT
+  st::fill_label_outlines(o.labels); // the text's outlines from the font (without: design_template refuses them)
+#endif
   o.simplify_outer = simplify;
   o.tube_tolerance = tolerance;
   const st::TemplateResult r = st::design_template(bone, o);
@@ -227,9 +233,9 @@ int design(int argc, char** argv) {
               r.fit.inner_to_bone.max, r.fit.outer_to_inner.min, r.fit.outer_to_inner.max, r.fit.rim_to_curve.max);
   std::printf("  times (s): inner %.3f  offset %.3f  outer points %.3f  outer cut %.3f  connection %.3f  total %.3f\n",
               t.inner_segmentation, t.offset, t.outer_points, t.outer_segmentation, t.connection, t.total);
-  if (!r.tubes.empty() || !r.slots.empty())
-    std::printf("  %zu drilling tube(s) and %zu saw slot(s) merged and cut in %.3f s\n", r.tubes.size(), r.slots.size(),
-                t.boolean);
+  if (!r.tubes.empty() || !r.slots.empty() || !r.labels.empty())
+    std::printf("  %zu drilling tube(s), %zu saw slot(s) and %zu label(s) merged and cut in %.3f s\n", r.tubes.size(),
+                r.slots.size(), r.labels.size(), t.boolean);
   for (const st::TubePlacement& p : r.tubes)
     for (const std::string& other : p.near)
       std::fprintf(stderr, "warning: %s: the path of tube '%s' passes within 1 mm of %s\n", c.name.c_str(),
@@ -243,6 +249,12 @@ int design(int argc, char** argv) {
     for (const std::string& m : p.meets)
       std::fprintf(stderr, "warning: %s: slot '%s' meets %s\n", c.name.c_str(), p.name.c_str(), m.c_str());
   }
+  for (const st::LabelPlacement& p : r.labels)
+    std::printf("    label '%s': \"%s\" %s %.2f mm deep, %.1f x %.1f mm; wall under it %.2f mm, %.1f mm from the "
+                "nearest sleeve or slot\n",
+                p.name.c_str(), p.text.c_str(), p.mode == st::LabelMode::engrave ? "engraved" : "embossed", p.depth,
+                p.width, p.text_height, p.mode == st::LabelMode::engrave ? p.min_wall : 0.0,
+                std::isfinite(p.min_clearance) ? p.min_clearance : 0.0);
   if (const st::InsertionReport& ins = r.insertion; ins.analysed) {
     std::printf("  insertion: along (%.3f, %.3f, %.3f)%s; undercut %.1f of %.1f mm^2 in %.3f s\n", ins.direction.x(),
                 ins.direction.y(), ins.direction.z(), ins.automatic ? ", the least-undercut direction" : "",

@@ -81,11 +81,11 @@ def test_insertion_is_kept_by_cases_and_measured(run):
     assert ins["set_used"] == pytest.approx([0, 0, -1], abs=1e-9)
 
 
-def test_a_cutting_guide_case_loads_with_its_pins_and_slots(run):
-    """The tibia example (two saw slots, two pins): the pins become tubes of kind pin, the one planned
-    without a direction gets the kernel's (into the bone from its entry), the screw keeps its
-    counterbore; the slots are cut in the guide (it loses material with them) and a case saved from the
-    guide keeps slots, kinds and counterbore."""
+def test_a_cutting_guide_case_loads_with_its_pins_slots_and_label(run):
+    """The tibia example (two saw slots, two pins, a label): the pins become tubes of kind pin, the one
+    planned without a direction gets the kernel's (into the bone from its entry), the screw keeps its
+    counterbore; the slots are cut and the label engraved in the guide (it loses material with each) and
+    a case saved from the guide keeps slots, kinds, counterbore and label."""
     tree = run["tibia_tree"]
     assert tree["tubes"] == ["proximal pin", "distal screw"]
     assert tree["kinds"] == ["pin", "pin"] and tree["saved_kinds"] == ["pin", "pin"]
@@ -96,3 +96,6 @@ def test_a_cutting_guide_case_loads_with_its_pins_and_slots(run):
     assert tree["slots"] == ["proximal cut", "distal cut"] and tree["saved_slots"] == tree["slots"]
     assert valid(run["tibia"]) and valid(run["tibia_without_slots"])
     assert run["tibia"]["volume"] != pytest.approx(run["tibia_without_slots"]["volume"], rel=1e-3)
+    assert tree["labels"] == ["TIBIA L1"] and tree["saved_labels"] == tree["labels"]
+    assert valid(run["tibia_without_labels"])
+    assert run["tibia_without_labels"]["volume"] > run["tibia"]["volume"] + 5.0, "the engraving takes material"

@@ -129,7 +129,9 @@ result["tibia_tree"] = {"tubes": [t.Label for t in pinned.Tubes], "kinds": [t.Ki
                         "slots": [s["name"] for s in json.loads(pinned.Slots)],
                         "saved_slots": [s["name"] for s in saved_tibia.get("slots", [])],
                         "saved_kinds": [t.get("kind", "sleeve") for t in saved_tibia["tubes"]],
-                        "saved_counterbore": saved_tibia["tubes"][1].get("counterbore")}
+                        "saved_counterbore": saved_tibia["tubes"][1].get("counterbore"),
+                        "labels": [l["text"] for l in json.loads(pinned.Labels)],
+                        "saved_labels": [l["text"] for l in saved_tibia.get("labels", [])]}
 # The same guide without its slots has more material: the slots are cut.
 slots_text = pinned.Slots
 pinned.Slots = ""
@@ -137,5 +139,12 @@ doc_tibia = pinned.Document
 doc_tibia.recompute()
 measure(pinned, "tibia_without_slots")
 pinned.Slots = slots_text
+doc_tibia.recompute()
+# And without its label: the engraving takes material too.
+labels_text = pinned.Labels
+pinned.Labels = ""
+doc_tibia.recompute()
+measure(pinned, "tibia_without_labels")
+pinned.Labels = labels_text
 doc_tibia.recompute()
 print("RESULT " + json.dumps(result))

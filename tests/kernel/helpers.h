@@ -1,6 +1,10 @@
 #pragma once
 // Fixtures built in code and assertion helpers for the kernel tests.
 
+#include "st/io/case_file.h"
+#ifdef ST_HAVE_OCCT
+#include "st/occt/occt_text.h"
+#endif
 #include "st/core/aabb_tree.h"
 #include "st/core/mesh.h"
 #include "st/validate/validate.h"
@@ -97,6 +101,18 @@ inline TriangleMesh faces_where(const TriangleMesh& mesh, const std::function<bo
 
 /// The project's examples folder (cases, meshes, plans).
 inline std::string examples_dir() { return ST_EXAMPLES_DIR; }
+
+/// The options of a case file with its labels' outlines from the font (OpenCASCADE); a build without
+/// OpenCASCADE leaves the labels out.
+inline TemplateOptions case_options(const CaseFile& c) {
+  TemplateOptions o = template_options(c);
+#ifdef ST_HAVE_OCCT
+  fill_label_outlines(o.labels);
+#else
+  o.labels.clear();
+#endif
+  return o;
+}
 
 /// The build's test-output folder (made if missing), for files tests write and CI keeps.
 inline std::string output_dir() {

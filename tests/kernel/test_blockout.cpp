@@ -162,7 +162,7 @@ TEST(BlockOut, MaxillaGuideOverTheTeethComesOffAlongAuto) {
   // the bone over at least 60 % of its inner surface.
   const CaseFile c = read_case(test::examples_dir() + "/cases/maxilla-labial-auto.json");
   const TriangleMesh bone = read_mesh(c.bone);
-  const TemplateOptions o = template_options(c);
+  const TemplateOptions o = st::test::case_options(c);
   ASSERT_TRUE(o.block_out);
   const TemplateResult r = design_template(bone, o);
   test::expect_valid_solid(r.shell);

@@ -148,3 +148,57 @@ TEST(CaseFile, InsertionIsADirectionOrAutoAndReadsBack) {
     }
   }
 }
+
+TEST(CaseFile, LabelsReadWriteAndRefuseBadKeysByName) {
+  const std::string path = test::output_dir() + "/labels-case.json";
+  auto text = [](const std::string& labels) {
+    return std::string(R"({"format": "surgical-template-case/1", "bone": "b.stl",
+      "boundary": {"points": [[0,0,0],[1,0,0],[0,1,0]]}, "template": {"thickness": 2},
+      "labels": [)") +
+           labels + "]}";
+  };
+  const CaseFile c = parse_case(text(R"({"text": "CASE 7 L", "at": [1, 2, 3], "up": [0, 0, 1]},
+              {"name": "version", "text": "v2 \u00e9", "at": [4, 5, 6], "up": [0, 1, 0], "height": 3, "depth": 0.8,
+               "mode": "emboss"})"),
+                                path);
+  ASSERT_EQ(c.labels.size(), 2u);
+  EXPECT_EQ(c.labels[0].name, "label 1") << "a label without a name is named by its place";
+  EXPECT_EQ(c.labels[0].text, "CASE 7 L");
+  EXPECT_DOUBLE_EQ(c.labels[0].height, 4.0);
+  EXPECT_DOUBLE_EQ(c.labels[0].depth, 0.6);
+  EXPECT_EQ(c.labels[0].mode, LabelMode::engrave);
+  EXPECT_EQ(c.labels[1].text, "v2 \xc3\xa9");
+  EXPECT_EQ(c.labels[1].mode, LabelMode::emboss);
+  EXPECT_EQ(template_options(c).labels.size(), 2u);
+  const CaseFile back = parse_case(case_json(c, path), path);
+  ASSERT_EQ(back.labels.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(back.labels[i].name, c.labels[i].name);
+    EXPECT_EQ(back.labels[i].text, c.labels[i].text);
+    EXPECT_EQ(back.labels[i].at, c.labels[i].at);
+    EXPECT_EQ(back.labels[i].up, c.labels[i].up);
+    EXPECT_EQ(back.labels[i].height, c.labels[i].height);
+    EXPECT_EQ(back.labels[i].depth, c.labels[i].depth);
+    EXPECT_EQ(back.labels[i].mode, c.labels[i].mode);
+  }
+  auto refused = [&](const std::string& labels, const std::string& words) {
+    try {
+      parse_case(text(labels), path);
+      ADD_FAILURE() << "accepted: " << labels;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  refused(R"({"at": [0,0,0], "up": [0,0,1]})", "labels[0].text: is required");
+  refused(R"({"text": "", "at": [0,0,0], "up": [0,0,1]})", "labels[0].text: must not be empty");
+  refused(R"({"text": "A", "up": [0,0,1]})", "labels[0].at: is required");
+  refused(R"({"text": "A", "at": [0,0,0], "up": [0,0,0]})", "labels[0].up: must be a finite, non-zero vector");
+  refused(R"({"text": "A", "at": [0,0,0], "up": [0,0,1], "depth": 0.4})", "labels[0].depth: must be at least 0.5");
+  refused(R"({"text": "A", "at": [0,0,0], "up": [0,0,1], "height": 0.2})", "labels[0].height: must be at least 1");
+  refused(R"({"text": "A", "at": [0,0,0], "up": [0,0,1], "mode": "burn"})", "labels[0].mode");
+  refused(
+      R"({"text": "A", "at": [0,0,0], "up": [0,0,1]}, {"name": "label 1", "text": "B", "at": [0,0,0], "up": [0,0,1]})",
+      "labels[1].name");
+  refused(std::string(R"({"text": ")") + std::string(65, 'A') + R"(", "at": [0,0,0], "up": [0,0,1]})",
+          "labels[0].text: is too long");
+}

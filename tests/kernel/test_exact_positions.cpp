@@ -365,7 +365,7 @@ TEST(ExactPositions, ExampleCasesWithControlPointsOnTheirNearestVertices) {
         if ((bone.positions[v] - p).squaredNorm() < (bone.positions[best] - p).squaredNorm()) best = v;
       return bone.positions[best];
     };
-    TemplateOptions o = template_options(c);
+    TemplateOptions o = st::test::case_options(c);
     for (Vec3& p : o.boundary_points) p = nearest_vertex(p);
     if (o.inside) o.inside = nearest_vertex(*o.inside);
     const TemplateResult r = design_template(bone, o);

@@ -136,7 +136,7 @@ TEST_P(GuideExample, SleevesJoinedBoresOpenNothingInTheBone) {
   const CaseFile c = read_case(test::examples_dir() + "/cases/" + GetParam() + ".json");
   ASSERT_FALSE(c.tubes.empty());
   const TriangleMesh bone = read_mesh(c.bone);
-  const TemplateResult r = design_template(bone, template_options(c));
+  const TemplateResult r = design_template(bone, st::test::case_options(c));
   GuideCheck(bone).expect_guide(r, c.tubes, c.clearance);
   // The fit of the template body is untouched by the tubes.
   EXPECT_LT(r.fit.outer_to_inner.max, c.thickness + r.resolution);
@@ -151,7 +151,7 @@ TEST(GuideDental, EightSleevesCloseTogetherMergeIntoOneGuide) {
   // whose outer walls overlap their neighbours' on a real, dirty CT.
   const CaseFile c = read_case(test::examples_dir() + "/cases/maxilla-implants.json");
   const TriangleMesh bone = read_mesh(c.bone);
-  TemplateOptions o = template_options(c);
+  TemplateOptions o = st::test::case_options(c);
   for (TubeSpec& t : o.tubes) t.outer_radius = 2.4;
   for (std::size_t i = 0; i + 1 < 4; ++i) {
     TubeSpec between = o.tubes[i];
@@ -276,7 +276,7 @@ TEST(GuideSeat, ASleeveStandingOnBoneBesideTheTemplateIsRefusedByName) {
   // bone beside the template and the sleeve would float clear of it (was: a guide of two parts).
   const CaseFile c = read_case(test::examples_dir() + "/cases/vertebra-pedicle.json");
   const TriangleMesh bone = read_mesh(c.bone);
-  TemplateOptions o = template_options(c);
+  TemplateOptions o = st::test::case_options(c);
   o.analyse_insertion = false;
   o.simplify_outer = true;
   o.tubes = {sleeve_25("over the edge", Vec3(-38.92887010274268, -0.5916847006867371, 9.858299386787964),
@@ -297,7 +297,7 @@ TEST(GuideSeat, AVertebraLaminaScrewSleeveIsTrimmedByTheBoneNotRefused) {
   // built on its planned axis, notched where the bone stands.
   const CaseFile c = read_case(test::examples_dir() + "/cases/vertebra-pedicle.json");
   const TriangleMesh bone = read_mesh(c.bone);
-  TemplateOptions o = template_options(c);
+  TemplateOptions o = st::test::case_options(c);
   o.analyse_insertion = false;
   o.tubes = {sleeve_25("lamina", Vec3(-37.098, -0.573, 10.388), Vec3(0.4464, 0.2531, -0.8583), 3.0)};
   const TemplateResult r = design_template(bone, o);

@@ -43,7 +43,7 @@ TEST(GuideProperty, RandomSleevesOnARealTemplate) {
   std::filesystem::remove_all(test::output_dir() + "/regressions");
   const CaseFile c = read_case(test::examples_dir() + "/cases/maxilla-implants.json");
   const TriangleMesh bone = read_mesh(c.bone);
-  TemplateOptions o = template_options(c);
+  TemplateOptions o = st::test::case_options(c);
   o.tubes.clear();         // the random sleeves replace the planned ones
   o.simplify_outer = true; // a real template, smaller, so that each full check stays quick
   const TemplateResult body = design_template(bone, o);

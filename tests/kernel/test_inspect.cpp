@@ -27,7 +27,7 @@ const Designed& maxilla() {
     Designed x;
     x.c = read_case(st::test::examples_dir() + "/cases/maxilla-implants.json");
     x.bone = read_mesh(x.c.bone);
-    x.r = design_template(x.bone, template_options(x.c));
+    x.r = design_template(x.bone, st::test::case_options(x.c));
     return x;
   }();
   return d;

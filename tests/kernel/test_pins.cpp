@@ -123,7 +123,7 @@ TEST(Pins, TheTibiaExamplePinsItsWedgeWithPathsClearOfEachOther) {
   const CaseFile c = read_case(test::examples_dir() + "/cases/tibia-osteotomy.json");
   ASSERT_EQ(c.tubes.size(), 2u) << "a pin pair";
   const TriangleMesh bone = read_mesh(c.bone);
-  const TemplateResult r = design_template(bone, template_options(c));
+  const TemplateResult r = design_template(bone, st::test::case_options(c));
   test::expect_valid_solid(r.shell);
   for (std::size_t i = 0; i < c.tubes.size(); ++i) {
     EXPECT_EQ(c.tubes[i].kind, TubeKind::pin);

@@ -477,7 +477,7 @@ TEST(Plan, SlicerPlanDesignsAValidGuide) {
   const SleevePreset& preset = find_sleeve_preset(default_sleeve_presets(), "drill-2.5");
   c.tubes.clear();
   for (const PlanAxis& a : plan.axes) c.tubes.push_back(tube_from_axis(a, preset));
-  const TemplateResult r = design_template(read_mesh(c.bone), template_options(c));
+  const TemplateResult r = design_template(read_mesh(c.bone), st::test::case_options(c));
   st::test::expect_valid_solid(r.shell);
   EXPECT_EQ(r.tubes.size(), 2u);
 }

@@ -58,9 +58,10 @@ TEST_P(RimSleeves, BuiltValidOrRefusedForBoneInTheBore) {
   const int only = only_env ? std::atoi(only_env) : -1;
   const CaseFile c = read_case(test::examples_dir() + "/cases/" + GetParam() + ".json");
   const TriangleMesh bone = read_mesh(c.bone);
-  TemplateOptions o = template_options(c);
+  TemplateOptions o = st::test::case_options(c);
   o.tubes.clear();
   o.slots.clear(); // the body as a template: its first faces are its inner surface
+  o.labels.clear();
   o.analyse_insertion = false;
   o.simplify_outer = true;
   const TemplateResult body = design_template(bone, o);

@@ -210,7 +210,7 @@ TEST(Stability, RemovingContactsOfARealGuideNeverRaisesItsScore) {
   // The labial maxilla guide (blocked out along its automatic direction), its contacts in random
   // subsets, each nested in the one before: the score falls or stays, never rises.
   const CaseFile c = read_case(test::examples_dir() + "/cases/maxilla-labial-auto.json");
-  const TemplateResult r = design_template(read_mesh(c.bone), template_options(c));
+  const TemplateResult r = design_template(read_mesh(c.bone), st::test::case_options(c));
   ASSERT_TRUE(r.stability.analysed);
   const StabilityReport& full = r.stability.report;
   EXPECT_GT(full.score, 0.0);

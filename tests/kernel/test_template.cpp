@@ -150,7 +150,7 @@ class ExampleCase : public ::testing::TestWithParam<std::string> {};
 TEST_P(ExampleCase, DesignsAValidTemplate) {
   const CaseFile c = read_case(GetParam());
   const TriangleMesh bone = read_mesh(c.bone);
-  const TemplateResult r = design_template(bone, template_options(c)); // with the case's tubes
+  const TemplateResult r = design_template(bone, st::test::case_options(c)); // with the case's tubes
   expect_valid_solid(r.shell);
   EXPECT_EQ(r.solid.components, 1u);
   EXPECT_NEAR(r.fit.inner_to_bone.max, c.clearance, 1e-3 + 0.1 * c.clearance);

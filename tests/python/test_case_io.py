@@ -71,6 +71,37 @@ def test_slots_read_written_and_designed_through_the_module(stk, tmp_path):
     assert stk.check_solid(*g["mesh"])["volume"] == pytest.approx(r["solid"]["volume"], rel=1e-9)
 
 
+def test_labels_read_written_and_engraved_through_the_module(stk, tmp_path):
+    """The tibia example's label survives read and write, and design_template engraves it: 'labels' in
+    the result with the planned depth, the wall left under it at least thickness - depth (5 %), 1 mm clear
+    of the sleeves and slots; a bad label is refused naming it and the key."""
+    if not stk.has_occt:
+        pytest.skip("labels need OpenCASCADE's fonts")
+    case = stk.read_case(os.path.join(CASES, "tibia-osteotomy.json"))
+    assert [(l["name"], l["text"], l["mode"]) for l in case["labels"]] == [("case", "TIBIA L1", "engrave")]
+    path = tmp_path / "case.json"
+    stk.write_case(case, str(path))
+    again = stk.read_case(str(path))
+    assert again["labels"][0]["text"] == "TIBIA L1" and np.allclose(again["labels"][0]["at"], case["labels"][0]["at"])
+    with pytest.raises(ValueError, match=r"labels\[0\]\.depth"):
+        stk.write_case(dict(case, labels=[dict(case["labels"][0], depth=0.2)]), str(tmp_path / "bad.json"))
+    v, f = stk.read_mesh(case["bone"])
+    args = dict(clearance=case["clearance"], inside=case["inside"], tubes=case["tubes"], slots=case["slots"])
+    r = stk.design_template(v, f, case["boundary_points"], case["thickness"], labels=case["labels"], **args)
+    assert r["solid"]["valid"], r["solid"]["summary"]
+    assert r["counts"]["labels"] == 1
+    label = r["labels"][0]
+    assert label["text"] == "TIBIA L1" and label["depth"] == pytest.approx(0.6)
+    assert label["height"] == pytest.approx(3.5, abs=0.05), "cap height as planned"
+    assert label["min_wall"] >= case["thickness"] - 0.6 - 0.05 * case["thickness"]
+    assert label["min_clearance"] >= 1.0
+    plain = stk.design_template(v, f, case["boundary_points"], case["thickness"], **args)
+    assert plain["solid"]["volume"] - r["solid"]["volume"] > 5.0, "the engraving takes material"
+    far = dict(case["labels"][0], name="far", at=[0.0, 0.0, 0.0])
+    with pytest.raises(RuntimeError, match="label 'far'"):
+        stk.design_template(v, f, case["boundary_points"], case["thickness"], labels=[far], **args)
+
+
 def test_pins_from_presets_and_the_direction_into_the_bone(stk):
     """A pin preset makes a pin tube with its counterbore; a pin planned by its entry only gets the
     direction into the bone there (against the surface's normal)."""

@@ -35,6 +35,9 @@ BUILD_DIRS = [os.path.join(ROOT, d) for d in os.environ.get("ST_BUILD_DIRS", "bu
 PROGRAMS = ["cmake", "ctest", "make", "xvfb-run", "Xvfb", "xauth", "freecad", "freecadcmd",
             "pdftotext", "pdftoppm", "/usr/bin/python3", "clang", "clang++", "clang-format"]
 
+# Data files the kernel reads at run time: the labels' font (kernel/occt/src/occt_text.cpp).
+RUNTIME_DATA = ["/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"]
+
 
 def read_package_list(path=PACKAGE_LIST):
     packages = []
@@ -264,7 +267,7 @@ def _is_system(path):
 def used(tmp_path_factory):
     for build in BUILD_DIRS:
         assert os.path.exists(os.path.join(build, "CMakeCache.txt")), "build tree %s is not built" % build
-    files = program_files() + python_files(str(tmp_path_factory.mktemp("probe")))
+    files = program_files() + python_files(str(tmp_path_factory.mktemp("probe"))) + RUNTIME_DATA
     for build in BUILD_DIRS:
         files += build_files(build)
     files = {os.path.normpath(f) for f in files}

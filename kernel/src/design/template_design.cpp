@@ -54,6 +54,15 @@ void check_options(const TemplateOptions& o) {
   if (o.inside && !o.inside->allFinite()) throw InvalidInput("boundary.inside has a non-finite coordinate");
   for (const TubeSpec& t : o.tubes) check_tube(t); // before any work
   for (const SlotSpec& s : o.slots) check_slot(s);
+  for (const LabelSpec& l : o.labels) {
+    check_label(l);
+    if (l.mode == LabelMode::engrave && !(l.depth < o.thickness))
+      throw InvalidInput("label '" + l.name + "': depth " + detail::mm(l.depth) +
+                         " must be less than the template's thickness " + detail::mm(o.thickness));
+    if (l.outlines.empty())
+      throw InvalidInput("label '" + l.name +
+                         "': its text has no outlines (they are made with OpenCASCADE's fonts; this build has none)");
+  }
 }
 
 // Moves the region off the bone by `distance` (the clearance) along a smooth normal field of the
@@ -431,15 +440,17 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   }
   if (options.check) result.times.validation = seconds_since(t0);
   result.body_inner_faces = inner.region.face_count();
-  if (!tubes.empty() || !options.slots.empty()) {
+  if (!tubes.empty() || !options.slots.empty() || !options.labels.empty()) {
     GuideOptions guide_options;
     guide_options.chordal_tolerance = options.tube_tolerance;
     guide_options.clearance = options.clearance;
-    GuideResult guide =
-        build_guide(result.shell, result.body_inner_faces, bone, GuideParts{tubes, options.slots}, guide_options);
+    guide_options.thickness = options.thickness;
+    GuideResult guide = build_guide(result.shell, result.body_inner_faces, bone,
+                                    GuideParts{tubes, options.slots, options.labels}, guide_options);
     result.times.boolean = guide.seconds;
     result.tubes = std::move(guide.tubes);
     result.slots = std::move(guide.slots);
+    result.labels = std::move(guide.labels);
     result.perturbed_operations = guide.perturbed_operations;
     result.max_perturbation = guide.max_perturbation;
     result.curve_tolerance = guide.curve_tolerance;

@@ -9,6 +9,7 @@
 #include "st/boolean/triangle_intersection.h"
 
 #include "detail/format.h"
+#include "guide/label_guide.h"
 #include "guide/seat.h"
 #include "guide/slot_guide.h"
 #include "st/guide/inspect.h"
@@ -345,7 +346,7 @@ void note_slot_meetings(const std::vector<TubeSpec>& tubes, const std::vector<Sl
 
 GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
                       const std::vector<TubeSpec>& tubes, const GuideOptions& options) {
-  return build_guide(shell, inner_faces, bone, GuideParts{tubes, {}}, options);
+  return build_guide(shell, inner_faces, bone, GuideParts{tubes, {}, {}}, options);
 }
 
 GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
@@ -368,9 +369,10 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
   GuideResult result;
   result.mesh = shell;
   result.from_tube.assign(shell.face_count(), 0);
-  if (tubes.empty() && slots.empty()) return result;
+  if (tubes.empty() && slots.empty() && parts.labels.empty()) return result;
   for (const TubeSpec& t : tubes) check_tube(t);
   for (const SlotSpec& s : slots) check_slot(s);
+  for (const LabelSpec& l : parts.labels) check_label(l);
 
   auto note = [&](const BooleanResult& r) {
     result.perturbed_operations += r.attempts > 1;
@@ -390,6 +392,12 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
   };
   for (const TubeSpec& tube : tubes) result.tubes.push_back(place(tube, shell, options));
   for (const SlotSpec& slot : slots) result.slots.push_back(place_slot(slot, shell, options));
+  std::vector<LaidLabel> labels;
+  const LabelObstacles obstacles{tubes, result.tubes, slots, result.slots};
+  for (const LabelSpec& label : parts.labels) {
+    labels.push_back(lay_label(label, shell, inner_faces, obstacles, options));
+    result.labels.push_back(labels.back().placement);
+  }
   // The bone under all sleeves, for their feet: one pass over it.
   std::vector<Index> bone_near;
   {
@@ -454,6 +462,9 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
     housings.push_back(slot_housing(slots[i], result.slots[i], bone_tree, options));
     unite(columns, housings.back());
   }
+  for (const LaidLabel& label : labels)
+    if (label.placement.mode == LabelMode::emboss)
+      for (const TriangleMesh& solid : label.solids) unite(columns, solid);
   result.columns_seconds = seconds_since(t0) - result.placement_seconds;
   if (!columns.empty()) {
     BooleanOptions o = quick;
@@ -485,16 +496,21 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
                      options.chordal_tolerance, true)));
   }
   for (std::size_t i = 0; i < slots.size(); ++i) unite(bores, slot_cut(slots[i], result.slots[i]));
+  for (const LaidLabel& label : labels)
+    if (label.placement.mode == LabelMode::engrave)
+      for (const TriangleMesh& solid : label.solids) unite(bores, solid);
   note_near_paths(tubes, result.tubes);
   note_slot_meetings(tubes, slots, housings, options, result);
-  BooleanResult cut = mesh_boolean(result.mesh, bores, BooleanOp::Difference, quick);
-  note(cut);
-  std::vector<std::uint8_t> from_tube(cut.mesh.face_count());
-  for (Index f = 0; f < cut.mesh.face_count(); ++f)
-    from_tube[f] = cut.from_b[f] ? 1 : result.from_tube[cut.source_face[f]];
-  result.mesh = std::move(cut.mesh);
-  result.from_tube = std::move(from_tube);
-  result.fragments_dropped = drop_fragments(result.mesh, result.from_tube);
+  if (!bores.empty()) {
+    BooleanResult cut = mesh_boolean(result.mesh, bores, BooleanOp::Difference, quick);
+    note(cut);
+    std::vector<std::uint8_t> from_tube(cut.mesh.face_count());
+    for (Index f = 0; f < cut.mesh.face_count(); ++f)
+      from_tube[f] = cut.from_b[f] ? 1 : result.from_tube[cut.source_face[f]];
+    result.mesh = std::move(cut.mesh);
+    result.from_tube = std::move(from_tube);
+    result.fragments_dropped = drop_fragments(result.mesh, result.from_tube);
+  }
   result.bores = std::move(bores);
   result.bore_seconds = seconds_since(t1);
   result.seconds = seconds_since(t0);

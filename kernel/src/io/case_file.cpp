@@ -57,6 +57,29 @@ SlotSpec parse_slot(const detail::JsonReader& r, const json& s, std::size_t i, s
   return slot;
 }
 
+/// labels[i] of a case (docs/CASE-FORMAT.md): the text, where it is centred, its up direction, size,
+/// depth and mode. Its outlines are left to the caller (st/occt/occt_text.h).
+LabelSpec parse_label(const detail::JsonReader& r, const json& l, std::size_t i, std::vector<std::string>& warnings) {
+  const std::string key = "labels[" + std::to_string(i) + "]";
+  if (!l.is_object()) r.fail(key, "must be an object");
+  r.unknown_keys(l, {"name", "text", "at", "up", "height", "depth", "mode"}, key + ".", warnings);
+  LabelSpec label;
+  label.text = r.string(r.required(l, "text", key + ".text"), key + ".text");
+  label.name = l.contains("name") ? r.string(l["name"], key + ".name") : "label " + std::to_string(i + 1);
+  label.at = r.point(r.required(l, "at", key + ".at"), key + ".at");
+  label.up = r.point(r.required(l, "up", key + ".up"), key + ".up");
+  if (l.contains("height")) label.height = r.number(l["height"], key + ".height");
+  if (l.contains("depth")) label.depth = r.number(l["depth"], key + ".depth");
+  if (l.contains("mode")) {
+    const std::string mode = r.string(l["mode"], key + ".mode");
+    const auto m = label_mode_named(mode);
+    if (!m) r.fail(key + ".mode", "must be \"engrave\" or \"emboss\", got \"" + mode + "\"");
+    label.mode = *m;
+  }
+  if (const auto problem = label_problem(label)) r.fail(key + "." + problem->key, problem->reason);
+  return label;
+}
+
 } // namespace
 
 TemplateOptions template_options(const CaseFile& c) {
@@ -69,6 +92,7 @@ TemplateOptions template_options(const CaseFile& c) {
   o.sampling_step = c.sampling_step.value_or(0);
   o.tubes = c.tubes;
   o.slots = c.slots;
+  o.labels = c.labels;
   o.analyse_insertion = true;
   o.insertion = c.insertion;
   o.block_out = c.insertion.has_value() || c.insertion_auto;
@@ -86,7 +110,8 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
 
   const std::string format = r.string(r.required(doc, "format", "format"), "format");
   if (format != kCaseFormat) r.fail("format", "must be \"" + std::string(kCaseFormat) + "\", got \"" + format + "\"");
-  r.unknown_keys(doc, {"format", "name", "bone", "boundary", "template", "tubes", "slots", "output"}, "", c.warnings);
+  r.unknown_keys(doc, {"format", "name", "bone", "boundary", "template", "tubes", "slots", "labels", "output"}, "",
+                 c.warnings);
 
   c.name = doc.contains("name") ? r.string(doc["name"], "name") : fs::path(path).stem().string();
   c.bone = resolve(r.string(r.required(doc, "bone", "bone"), "bone"));
@@ -216,6 +241,16 @@ CaseFile parse_case(const std::string& text, const std::string& path) {
           r.fail("slots[" + std::to_string(i) + "].name", "\"" + c.slots[i].name + "\" names an earlier slot too");
     }
   }
+  if (doc.contains("labels")) {
+    const json& labels = doc["labels"];
+    if (!labels.is_array()) r.fail("labels", "must be an array");
+    for (std::size_t i = 0; i < labels.size(); ++i) {
+      c.labels.push_back(parse_label(r, labels[i], i, c.warnings));
+      for (std::size_t j = 0; j < i; ++j)
+        if (c.labels[j].name == c.labels[i].name)
+          r.fail("labels[" + std::to_string(i) + "].name", "\"" + c.labels[i].name + "\" names an earlier label too");
+    }
+  }
   if (doc.contains("output")) c.output = resolve(r.string(doc["output"], "output"));
   return c;
 }
@@ -268,6 +303,15 @@ std::string case_json(const CaseFile& c, const std::string& path) {
                             {"wall", s.wall},
                             {"closed", closed}});
   }
+  if (!c.labels.empty()) doc["labels"] = json::array();
+  for (const LabelSpec& l : c.labels)
+    doc["labels"].push_back({{"name", l.name},
+                             {"text", l.text},
+                             {"at", point(l.at)},
+                             {"up", point(l.up)},
+                             {"height", l.height},
+                             {"depth", l.depth},
+                             {"mode", label_mode_name(l.mode)}});
   if (c.output) doc["output"] = relative(*c.output);
   return doc.dump(2) + "\n";
 }

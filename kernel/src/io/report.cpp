@@ -53,6 +53,22 @@ nlohmann::json to_json(const SlotPlacement& p) {
           {"meets", p.meets}};
 }
 
+nlohmann::json to_json(const LabelPlacement& p) {
+  nlohmann::json out = {{"name", p.name},
+                        {"text", p.text},
+                        {"mode", label_mode_name(p.mode)},
+                        {"origin", xyz(p.origin)},
+                        {"normal", xyz(p.normal)},
+                        {"up", xyz(p.up)},
+                        {"width", p.width},
+                        {"height", p.text_height},
+                        {"depth", p.depth},
+                        {"surface_rise", p.surface_rise}};
+  if (p.mode == LabelMode::engrave) out["min_wall"] = p.min_wall;
+  out["min_clearance"] = std::isfinite(p.min_clearance) ? nlohmann::json(p.min_clearance) : nlohmann::json(nullptr);
+  return out;
+}
+
 namespace {
 
 nlohmann::json placements(const std::vector<TubePlacement>& tubes) {
@@ -77,6 +93,7 @@ nlohmann::json to_json(const TemplateResult& r, const TemplateOptions& options) 
                    {"template_triangles", r.shell.face_count()},
                    {"drilling_tubes", options.tubes.size()},
                    {"saw_slots", options.slots.size()},
+                   {"labels", options.labels.size()},
                    {"sampling_step", r.sampling_step},
                    {"resolution", r.resolution}};
   out["times"] = {{"inner_surface_segmentation", t.inner_segmentation},
@@ -128,6 +145,10 @@ nlohmann::json to_json(const TemplateResult& r, const TemplateOptions& options) 
       out["slots"].push_back(s);
     }
   }
+  if (!r.labels.empty()) {
+    out["labels"] = nlohmann::json::array();
+    for (const LabelPlacement& p : r.labels) out["labels"].push_back(to_json(p));
+  }
   out["boolean"] = {{"perturbed_operations", r.perturbed_operations},
                     {"max_perturbation_mm", r.max_perturbation},
                     {"curve_tolerance_mm", r.curve_tolerance},
@@ -175,8 +196,11 @@ nlohmann::json to_json(const StabilityResult& s) {
 nlohmann::json to_json(const GuideResult& g) {
   nlohmann::json slots = nlohmann::json::array();
   for (const SlotPlacement& p : g.slots) slots.push_back(to_json(p));
+  nlohmann::json labels = nlohmann::json::array();
+  for (const LabelPlacement& p : g.labels) labels.push_back(to_json(p));
   return {{"tubes", placements(g.tubes)},
           {"slots", slots},
+          {"labels", labels},
           {"seconds", g.seconds},
           {"perturbed_operations", g.perturbed_operations},
           {"max_perturbation_mm", g.max_perturbation},

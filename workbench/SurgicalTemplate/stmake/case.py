@@ -40,7 +40,7 @@ def load_case(path, doc=None):
         tubes = [make_tube(t["entry"], _direction(t, case), t["inner_radius"], t["outer_radius"], t["length"],
                            t["offset"], name=t["name"], doc=doc, depth=t["depth"], kind=t.get("kind"),
                            counterbore=t.get("counterbore")) for t in case["tubes"]]
-        guide = make_guide(shell, tubes, slots=case.get("slots", []))
+        guide = make_guide(shell, tubes, slots=case.get("slots", []), labels=case.get("labels", []))
         guide.Label = case["name"] or "SurgicalGuide"
     doc.recompute()
     return guide
@@ -66,6 +66,7 @@ def save_case(guide, path, output=None):
         "insertion": insertion_argument(shell),
         "tubes": [t.Proxy.spec(t) for t in guide.Tubes],
         "slots": guide.Proxy.slots_of(guide),
+        "labels": guide.Proxy.labels_of(guide),
         "output": os.path.join(os.path.dirname(os.path.abspath(path)), output) if output else None,
     }, path)
     return path

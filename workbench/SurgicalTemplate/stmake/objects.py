@@ -139,9 +139,10 @@ def make_tube(entry, direction, inner_radius=None, outer_radius=None, length=Non
     return obj
 
 
-def make_guide(shell, tubes=(), tolerance=0.01, name="SurgicalGuide", slots=()):
-    """The final guide: the template shell with its tubes merged and their bores cut, and its saw
-    slots (dicts with the case file's slot keys) cut in their housings."""
+def make_guide(shell, tubes=(), tolerance=0.01, name="SurgicalGuide", slots=(), labels=()):
+    """The final guide: the template shell with its tubes merged and their bores cut, its saw slots
+    (dicts with the case file's slot keys) cut in their housings and its labels (dicts with the case
+    file's label keys) engraved or embossed."""
     doc = shell.Document
     with Step(doc, "Create surgical guide"):
         obj = doc.addObject("Mesh::FeaturePython", name)
@@ -149,7 +150,8 @@ def make_guide(shell, tubes=(), tolerance=0.01, name="SurgicalGuide", slots=()):
         obj.Shell = shell
         obj.Tubes = list(tubes)
         obj.Tolerance = tolerance
-        obj.Slots = Guide.slots_text(slots)
+        obj.Slots = Guide.list_text(slots)
+        obj.Labels = Guide.list_text(labels)
         _view(obj, "SurgicalTemplate_Guide.svg")
         if App.GuiUp:
             obj.ViewObject.ShapeColor = (0.20, 0.45, 0.85)

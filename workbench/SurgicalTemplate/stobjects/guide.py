@@ -1,6 +1,7 @@
 """The surgical guide (Mesh::FeaturePython): the template shell with its tubes merged and their bores
-cut by the kernel, and its saw slots (Slots: the case file's slot keys as JSON, since 0.3) cut in
-their housings, checked as a printable solid; StabilityScore repeats its template's for expressions."""
+cut by the kernel, its saw slots (Slots: the case file's slot keys as JSON, since 0.3) cut in their
+housings and its labels (Labels: the case file's label keys as JSON) engraved or embossed, checked as a
+printable solid; StabilityScore repeats its template's for expressions."""
 import json
 
 import numpy as np
@@ -27,30 +28,45 @@ class Guide(Feature):
         self.add(obj, "App::PropertyString", "Slots", "Guide",
                  "Saw slots cut in their housings: a JSON list with the case file's slot keys "
                  "(docs/CASE-FORMAT.md); empty: none", "")
+        self.add(obj, "App::PropertyString", "Labels", "Guide",
+                 "Text engraved into or embossed onto the outer surface: a JSON list with the case file's "
+                 "label keys (text, at, up, height, depth, mode; docs/CASE-FORMAT.md); empty: none", "")
 
     def onDocumentRestored(self, obj):
         self.properties_since_0_3(obj)
 
     @staticmethod
-    def slots_text(slots):
-        """The Slots property's text for slot dicts (numpy arrays as lists)."""
+    def list_text(items):
+        """The text of a JSON list property (Slots, Labels) for dicts of case-file keys (numpy arrays as
+        lists)."""
         def plain(v):
             return v.tolist() if isinstance(v, np.ndarray) else v
-        return json.dumps([{k: plain(v) for k, v in s.items()} for s in slots]) if slots else ""
+        return json.dumps([{k: plain(v) for k, v in s.items()} for s in items]) if items else ""
 
     @staticmethod
-    def slots_of(obj):
-        """The guide's slot dicts (case file keys); ValueError naming the guide for text that is not them."""
-        text = getattr(obj, "Slots", "")
+    def list_of(obj, prop):
+        """The dicts of a JSON list property (Slots, Labels); ValueError naming the guide for text that is
+        not them."""
+        text = getattr(obj, prop, "")
         if not text.strip():
             return []
         try:
-            slots = json.loads(text)
+            items = json.loads(text)
         except ValueError as e:
-            raise ValueError(f"{obj.Label}: Slots is not JSON: {e}") from None
-        if not isinstance(slots, list):
-            raise ValueError(f"{obj.Label}: Slots must be a JSON list of slots")
-        return slots
+            raise ValueError(f"{obj.Label}: {prop} is not JSON: {e}") from None
+        if not isinstance(items, list) or not all(isinstance(i, dict) for i in items):
+            raise ValueError(f"{obj.Label}: {prop} must be a JSON list of objects with the case file's keys")
+        return items
+
+    @staticmethod
+    def slots_of(obj):
+        """The guide's slot dicts (case file keys)."""
+        return Guide.list_of(obj, "Slots")
+
+    @staticmethod
+    def labels_of(obj):
+        """The guide's label dicts (case file keys)."""
+        return Guide.list_of(obj, "Labels")
 
     def execute(self, obj):
         shell = obj.Shell
@@ -63,10 +79,12 @@ class Guide(Feature):
         BV, BF = st_bridge.bone_arrays(shell.Boundary.Bone)
         tubes = [t.Proxy.spec(t) for t in obj.Tubes]
         slots = self.slots_of(obj)
-        if tubes or slots:
+        labels = self.labels_of(obj)
+        if tubes or slots or labels:
             g = st_bridge.call(k.add_tubes, V, F, int(shell.InnerFaces), BV, BF, tubes,
                                chordal_tolerance=float(obj.Tolerance.Value),
-                               clearance=float(shell.Clearance.Value), slots=slots)
+                               clearance=float(shell.Clearance.Value), slots=slots, labels=labels,
+                               thickness=float(shell.Thickness.Value))
             V, F = g["mesh"]
             seconds = g["seconds"]
         else:

@@ -49,6 +49,9 @@ struct TemplateOptions {
   std::vector<TubeSpec> tubes;
   /// Saw slots on planned osteotomy planes (slot.h); their housings are merged with the sleeves.
   std::vector<SlotSpec> slots;
+  /// Labels engraved into or embossed onto the outer surface (label.h), their outlines filled in
+  /// (st/occt/occt_text.h); laid with the sleeves and slots.
+  std::vector<LabelSpec> labels;
   double tube_tolerance = 0.01; ///< chordal tolerance of sleeves and bores, mm
 };
 
@@ -107,6 +110,7 @@ struct TemplateResult {
   std::vector<TubePlacement> tubes;         ///< per tube: where its sleeve and bore were put
   std::vector<SlotPlacement> slots;         ///< per slot: where its housing and cut were put
   std::vector<BladePathReport> blade_paths; ///< per slot, with options.check: its blade path is free
+  std::vector<LabelPlacement> labels;       ///< per label: where it was laid and what it leaves
   int perturbed_operations = 0;             ///< Boolean operations that needed a tiny displacement
   double max_perturbation = 0.0;            ///< the largest such displacement, mm
   double curve_tolerance = 0.0;             ///< how far the Boolean intersection curves may have moved, mm

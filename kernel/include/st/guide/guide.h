@@ -17,6 +17,7 @@
 // circumscribed so the drill always fits) are cut along each whole axis, from above the sleeve
 // through to the bone.
 
+#include "st/guide/label.h"
 #include "st/guide/slot.h"
 #include "st/guide/sleeve.h"
 #include "st/guide/tube.h"
@@ -32,6 +33,9 @@ struct GuideOptions {
   double chordal_tolerance = 0.01; ///< sleeve and bore tessellation: largest chord deviation, mm
   double clearance = 0.0;          ///< bone clearance, for sleeve parts that overhang the template
   double bore_margin = 1.0;        ///< how far the bore runs past the sleeve top and the inner surface, mm
+  /// The template's wall thickness: an engraved label must leave at least thickness - depth of wall
+  /// under it (0: not checked).
+  double thickness = 0.0;
 };
 
 /// What was decided for one tube; heights z along its axis from the entry, outward (sleeve.h).
@@ -72,10 +76,29 @@ struct SlotPlacement {
   std::vector<std::string> meets; ///< the tubes ("tube 't1'") and slots whose guide material it cuts or meets
 };
 
+/// What was decided for one label (label.h): its frame on the surface and what it leaves.
+struct LabelPlacement {
+  std::string name;
+  std::string text;
+  LabelMode mode = LabelMode::engrave;
+  Vec3 origin = Vec3::Zero();  ///< the point of the outer surface nearest the planned point
+  Vec3 normal = Vec3::UnitZ(); ///< outward, averaged over the surface around origin
+  Vec3 up = Vec3::UnitY();     ///< the text's up in the tangent plane
+  Vec3 right = Vec3::UnitX();  ///< up x normal: the reading direction
+  double width = 0.0;          ///< the text's extent along right, mm
+  double text_height = 0.0;    ///< its extent along up, mm
+  double depth = 0.0;          ///< the engraving's depth or the embossing's height along normal, everywhere
+  double surface_rise = 0.0;   ///< how far the outer surface under the text rises and falls along normal
+  double top = 0.0;            ///< the label's solid's highest point over origin along normal (2 mm over it are free)
+  double min_wall = 0.0;       ///< engraved: the thinnest wall left under the text (to the inner surface)
+  double min_clearance = 0.0;  ///< the text's least distance to a sleeve, bore or slot housing (infinite: none)
+};
+
 /// Everything a guide carries besides its template.
 struct GuideParts {
   std::vector<TubeSpec> tubes;
   std::vector<SlotSpec> slots;
+  std::vector<LabelSpec> labels;
 };
 
 struct GuideResult {
@@ -83,6 +106,7 @@ struct GuideResult {
   std::vector<std::uint8_t> from_tube; ///< per face: 1 when it is sleeve wall, cap or bore, or slot housing or wall
   std::vector<TubePlacement> tubes;
   std::vector<SlotPlacement> slots;
+  std::vector<LabelPlacement> labels;
   double placement_seconds = 0.0;    ///< rays along the axes (part of union_seconds)
   double columns_seconds = 0.0;      ///< columns united with each other (part of union_seconds)
   double union_seconds = 0.0;        ///< placement, columns united with each other and with the shell
@@ -107,7 +131,10 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
 /// stands on the template like a sleeve's column (its foot over the bone, the same exact clipping), united with the
 /// columns and the shell; each slot is cut with the bores, from above its housing down past the template's inner
 /// surface. Throws InvalidInput for a bad slot (naming it and the key) and GeometryError for a slot that misses the
-/// template or whose housing the bone reaches (naming it and the place).
+/// template or whose housing the bone reaches (naming it and the place). Labels are laid on the template's outer
+/// surface (label.h) and engraved with the bores' cut or embossed with the columns' union; GeometryError names a
+/// label that runs off the outer surface, over a step or too steep a surface, within kLabelClearance_mm of a sleeve,
+/// bore or slot housing, or (engraved) leaves less than options.thickness - depth of wall under it.
 GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
                         const GuideParts& parts, const GuideOptions& options = {});
 

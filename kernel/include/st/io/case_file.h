@@ -4,6 +4,7 @@
 
 #include "st/core/mesh.h"
 #include "st/design/template_design.h"
+#include "st/guide/label.h"
 #include "st/guide/slot.h"
 #include "st/guide/tube.h"
 
@@ -28,6 +29,7 @@ struct CaseFile {
   bool insertion_auto = false;   ///< template.insertion is "auto"
   std::vector<TubeSpec> tubes;
   std::vector<SlotSpec> slots;
+  std::vector<LabelSpec> labels;     ///< without outlines (st/occt/occt_text.h fills them)
   std::optional<std::string> output; ///< resolved against the case folder
   std::vector<std::string> warnings; ///< unknown keys and the like
 };
@@ -39,7 +41,7 @@ inline constexpr const char* kCaseFormat = "surgical-template-case/1";
 CaseFile read_case(const std::string& path);
 
 /// The options a case file asks for: boundary, inside, thickness, clearance, resolution, sampling step
-/// tubes and slots (the rest at their defaults).
+/// tubes, slots and labels (the rest at their defaults; the labels without their outlines).
 TemplateOptions template_options(const CaseFile& c);
 
 /// The case as the JSON text of a case file at `path`: the bone relative to that file's folder,

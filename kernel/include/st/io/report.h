@@ -22,6 +22,9 @@ nlohmann::json to_json(const DistanceStats& s);
 /// inside_template}
 nlohmann::json to_json(const TubePlacement& p);
 nlohmann::json to_json(const SlotPlacement& p);
+/// A label as laid: name, text, mode, origin, normal, up, width and height of the text, depth, the
+/// surface's rise under it, min_wall (engraved), min_clearance to sleeves, bores and slot housings.
+nlohmann::json to_json(const LabelPlacement& p);
 
 /// {counts: {edge_points_of_inner_surface, triangles_of_inner_surface, points_of_inner_surface,
 /// edge_points_of_outer_surface, triangles_of_outer_surface, offset_triangles, field_voxels,
