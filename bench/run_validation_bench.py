@@ -2,7 +2,7 @@
 """Benchmark of what a design checks beyond the paper's steps, per example case: the insertion
 analysis (undercut, least-undercut direction), the block-out, the removal check and the stability
 analysis (contacts, free motions, score, press point), next to what the guide carries (sleeves, pins
-and saw slots, and the Boolean step that merges and cuts them) and the whole run as the user meets it
+saw slots and labels, and the Boolean step that merges and cuts them) and the whole run as the user meets it
 (read, design, validation, write: the tool's wall clock).
 
 Runs `surgical-template design CASE --report` several times per case, takes the median of every
@@ -23,7 +23,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 CASES = os.path.join(ROOT, "examples", "cases")
 
-TIMES = [("boolean_operation", "tubes and slots (Boolean)"), ("insertion_analysis", "insertion analysis"), ("block_out", "block-out"),
+TIMES = [("boolean_operation", "what it carries (Boolean)"), ("insertion_analysis", "insertion analysis"), ("block_out", "block-out"),
          ("removal_check", "removal check"), ("stability", "stability"), ("validation", "validation (all)"),
          ("wall_clock", "whole run")]
 
@@ -56,7 +56,7 @@ def main():
             s = first.get("stability", {})
             med = {k: statistics.median(r["times"].get(k, 0.0) for r in reports) for k, _ in TIMES}
             kinds = [t.get("kind", "sleeve") for t in first.get("tubes", [])]
-            counts = ((kinds.count("sleeve"), "sleeve"), (kinds.count("pin"), "pin"), (len(first.get("slots", [])), "slot"))
+            counts = ((kinds.count("sleeve"), "sleeve"), (kinds.count("pin"), "pin"), (len(first.get("slots", [])), "slot"), (len(first.get("labels", [])), "label"))
             carries = ", ".join(f"{n} {w}{'s' if n > 1 else ''}" for n, w in counts if n) or "-"
             lines.append(f"| {name[:-5]} | {carries} | {s.get('contacts', 0):,} | {s.get('score', 0.0):.2f} | "
                          f"{len(s.get('free_motions', []))} | "

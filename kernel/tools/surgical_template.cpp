@@ -249,12 +249,14 @@ int design(int argc, char** argv) {
     for (const std::string& m : p.meets)
       std::fprintf(stderr, "warning: %s: slot '%s' meets %s\n", c.name.c_str(), p.name.c_str(), m.c_str());
   }
-  for (const st::LabelPlacement& p : r.labels)
-    std::printf("    label '%s': \"%s\" %s %.2f mm deep, %.1f x %.1f mm; wall under it %.2f mm, %.1f mm from the "
-                "nearest sleeve or slot\n",
-                p.name.c_str(), p.text.c_str(), p.mode == st::LabelMode::engrave ? "engraved" : "embossed", p.depth,
-                p.width, p.text_height, p.mode == st::LabelMode::engrave ? p.min_wall : 0.0,
-                std::isfinite(p.min_clearance) ? p.min_clearance : 0.0);
+  for (const st::LabelPlacement& p : r.labels) {
+    const bool engraved = p.mode == st::LabelMode::engrave;
+    std::printf("    label '%s': \"%s\" %s %.2f mm %s, %.1f x %.1f mm", p.name.c_str(), p.text.c_str(),
+                engraved ? "engraved" : "embossed", p.depth, engraved ? "deep" : "high", p.width, p.text_height);
+    if (engraved) std::printf("; wall under it %.2f mm", p.min_wall);
+    if (std::isfinite(p.min_clearance)) std::printf("; %.1f mm from the nearest sleeve or slot", p.min_clearance);
+    std::printf("\n");
+  }
   if (const st::InsertionReport& ins = r.insertion; ins.analysed) {
     std::printf("  insertion: along (%.3f, %.3f, %.3f)%s; undercut %.1f of %.1f mm^2 in %.3f s\n", ins.direction.x(),
                 ins.direction.y(), ins.direction.z(), ins.automatic ? ", the least-undercut direction" : "",

@@ -242,26 +242,20 @@ LaidLabel lay_label(const LabelSpec& label, const TriangleMesh& shell, std::size
   if (label.outlines.empty())
     throw InvalidInput("label '" + label.name +
                        "': its text has no outlines (they are made with OpenCASCADE's fonts, st/occt/occt_text.h)");
-  // The shell around the label: everything its rays, its sky and its wall check can reach.
-  double reach = 0.0;
-  for (const auto& polygon : label.outlines)
-    for (const auto& loop : polygon.loops)
-      for (const Point2& q : loop) reach = std::max(reach, std::hypot(q[0], q[1]));
-  const double window = 2.0 + reach;
+  // The shell's faces (all, and the inner ones) whose boxes meet `box`.
+  auto faces_in = [&](const BoundingBox& box) {
+    std::pair<std::vector<Index>, std::vector<Index>> found;
+    for (Index f = 0; f < shell.face_count(); ++f)
+      if (triangle_box(shell, f).overlaps(box)) (f < inner_faces ? found.second : found.first).push_back(f);
+    found.first.insert(found.first.end(), found.second.begin(), found.second.end());
+    return found;
+  };
+  // First the shell around `at`: its nearest point, the outer surface over it, the normal around it.
+  const double radius = std::max(1.0, 0.25 * label.height);
+  const double outward = kMaxLabelDistance_mm + std::max(options.thickness, 1.0) + 1.0;
   BoundingBox around_at;
   around_at.extend(label.at);
-  around_at = around_at.inflated(3.0 * kMaxLabelDistance_mm + 2.0 * window + kLabelSky_mm + 5.0 +
-                                 std::max(options.thickness, 5.0));
-  std::vector<Index> near, near_inner;
-  for (Index f = 0; f < shell.face_count(); ++f)
-    if (triangle_box(shell, f).overlaps(around_at)) (f < inner_faces ? near_inner : near).push_back(f);
-  near.insert(near.end(), near_inner.begin(), near_inner.end());
-  if (near.empty())
-    throw label_error(label, "its point lies more than " + detail::mm(kMaxLabelDistance_mm) + " from the template",
-                      label.at, "put it on the template's outer surface");
-  const AabbTree shell_tree(shell, std::move(near));
-  const std::optional<AabbTree> inner_tree =
-      near_inner.empty() ? std::nullopt : std::optional<AabbTree>(std::in_place, shell, std::move(near_inner));
+  const AabbTree local(shell, faces_in(around_at.inflated(outward + radius)).first);
   LaidLabel laid;
   LabelPlacement& p = laid.placement;
   p.name = label.name;
@@ -269,7 +263,7 @@ LaidLabel lay_label(const LabelSpec& label, const TriangleMesh& shell, std::size
   p.mode = label.mode;
 
   // The frame: the nearest point of the outer surface, the outward normal averaged around it.
-  const auto nearest = shell_tree.closest_point(label.at, kMaxLabelDistance_mm);
+  const auto nearest = local.empty() ? std::nullopt : local.closest_point(label.at, kMaxLabelDistance_mm);
   if (!nearest)
     throw label_error(label, "its point lies more than " + detail::mm(kMaxLabelDistance_mm) + " from the template",
                       label.at, "put it on the template's outer surface");
@@ -280,7 +274,7 @@ LaidLabel lay_label(const LabelSpec& label, const TriangleMesh& shell, std::size
     const Vec3 out = -triangle_normal(shell, face).normalized();
     std::optional<RayHit> over;
     for (double t = 0.0; !over;) {
-      const auto hit = shell_tree.first_hit(label.at, out, t, 3.0 * kMaxLabelDistance_mm);
+      const auto hit = local.first_hit(label.at, out, t, outward);
       if (!hit) break;
       if (hit->face >= inner_faces) over = hit;
       t = hit->t + 1e-9;
@@ -292,11 +286,10 @@ LaidLabel lay_label(const LabelSpec& label, const TriangleMesh& shell, std::size
     face = over->face;
   }
   const Vec3 n0 = triangle_normal(shell, face).normalized();
-  const double radius = std::max(1.0, 0.25 * label.height);
   Vec3 sum = Vec3::Zero();
   BoundingBox around;
   around.extend(p.origin);
-  shell_tree.for_each_in_box(around.inflated(radius), [&](Index f) {
+  local.for_each_in_box(around.inflated(radius), [&](Index f) {
     if (f < inner_faces) return;
     const Triangle& t = shell.triangles[f];
     const Vec3 q =
@@ -320,6 +313,21 @@ LaidLabel lay_label(const LabelSpec& label, const TriangleMesh& shell, std::size
         x0 = std::min(x0, q[0]), x1 = std::max(x1, q[0]), y0 = std::min(y0, q[1]), y1 = std::max(y1, q[1]);
   p.width = x1 - x0;
   p.text_height = y1 - y0;
+  // Then the shell over and under the text's footprint in its frame: its rays run `window` over and
+  // under the origin, its sky and its floor's wall check a little further.
+  double reach = 0.0;
+  for (const double x : {x0, x1})
+    for (const double y : {y0, y1}) reach = std::max(reach, std::hypot(x, y));
+  const double window = 2.0 + reach;
+  BoundingBox footprint;
+  for (const double x : {x0 - 1.0, x1 + 1.0})
+    for (const double y : {y0 - 1.0, y1 + 1.0})
+      for (const double z : {-window - std::max(options.thickness, 1.0) - 1.0, window + kLabelSky_mm + 1.0})
+        footprint.extend(p.origin + x * p.right + y * p.up + z * p.normal);
+  auto [near, near_inner] = faces_in(footprint);
+  const AabbTree shell_tree(shell, std::move(near));
+  const std::optional<AabbTree> inner_tree =
+      near_inner.empty() ? std::nullopt : std::optional<AabbTree>(std::in_place, shell, std::move(near_inner));
   p.depth = label.depth;
   p.min_wall = std::numeric_limits<double>::infinity();
   p.min_clearance = std::numeric_limits<double>::infinity();
