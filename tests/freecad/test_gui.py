@@ -17,7 +17,7 @@ def session(tmp_path_factory):
 def test_workbench_and_commands(session):
     assert session["workbench"] == "SurgicalTemplateWorkbench"
     for name in ("OpenCase", "ImportBone", "DrawBoundary", "CreateTemplate", "AddTube", "CreateGuide",
-                 "Validate", "ExportSTL", "SaveCase"):
+                 "AddSlot", "AddLabel", "Validate", "ExportSTL", "SaveCase"):
         assert "SurgicalTemplate_" + name in session["commands"]
 
 
@@ -78,3 +78,20 @@ def test_boundary_edited_in_its_panel_by_drag_click_and_delete_key(session):
     c = e["cancelled"]
     assert c["unchanged"] and c["undo_steps"] == 0
     assert not c["dialog_open"] and not c["in_edit"] and not c["overlay_left"]
+
+
+def test_a_label_and_a_slot_added_by_the_commands_at_a_picked_point(session):
+    """Add label at a point picked on the tibia guide engraves the case's name there, reading across the view
+    (its up perpendicular to the view); Add saw slot from the view adds a slot or, refused, says why and leaves
+    the guide as it was; the guide stays valid; each is one undo step."""
+    c = session["cutting"]
+    assert c["label"]["texts"] == [c["label"]["case"]], c["warnings"]
+    assert "Invalid" not in c["label"]["state"]
+    assert c["label"]["up"] == pytest.approx([0, 0, 1], abs=1e-6), "the label's up is the view's up"
+    assert "Invalid" not in c["slot"]["state"]
+    if c["slot"]["after"] == c["slot"]["before"]:  # refused: the undo takes the label back
+        assert any("slot 'slot 3'" in w for w in c["warnings"]), c["warnings"]
+        assert c["after_undo"] == {"slots": c["slot"]["before"], "labels": 0}
+    else:
+        assert c["slot"]["after"] == c["slot"]["before"] + 1
+        assert c["after_undo"] == {"slots": c["slot"]["before"], "labels": 1}

@@ -99,3 +99,43 @@ def test_a_cutting_guide_case_loads_with_its_pins_slots_and_label(run):
     assert tree["labels"] == ["TIBIA L1"] and tree["saved_labels"] == tree["labels"]
     assert valid(run["tibia_without_labels"])
     assert run["tibia_without_labels"]["volume"] > run["tibia"]["volume"] + 5.0, "the engraving takes material"
+
+
+def test_the_protocol_lists_pins_slots_and_labels(run):
+    """The tibia guide's protocol: its pins by kind, a table of its saw slots (plane, travel, blade, width
+    = blade + 2 x clearance, closed ends) and one of its labels (text, mode, cap height, depth)."""
+    tables, current = {}, None
+    for line in run["tibia_protocol"].splitlines():
+        if line.startswith("|") and not line.startswith("|-"):
+            cells = [c.strip() for c in line.strip().strip("|").split("|")]
+            if current is None:
+                current = cells[0]
+                tables[current] = {"head": cells, "rows": {}}
+            else:
+                tables[current]["rows"][cells[0]] = dict(zip(tables[current]["head"], cells))
+        elif not line.startswith("|"):
+            current = None
+    assert set(tables) == {"Sleeve", "Slot", "Label"}
+    assert {r["Kind"] for r in tables["Sleeve"]["rows"].values()} == {"pin"}
+    slots = tables["Slot"]["rows"]
+    assert sorted(slots) == ["distal cut", "proximal cut"]
+    for r in slots.values():
+        assert float(r["Width"]) == pytest.approx(0.89 + 2 * 0.1, abs=1e-6) and float(r["Blade"]) == 0.89
+        assert r["Closed"] == "start+end"
+    assert abs(float(slots["distal cut"]["Normal Y"])) == pytest.approx(0.34202, abs=1e-5)
+    label = tables["Label"]["rows"]["case"]
+    assert label["Text"] == "TIBIA L1" and label["Mode"] == "engrave"
+    assert float(label["Cap height"]) == 3.5 and float(label["Depth"]) == 0.6
+
+
+def test_labels_and_slots_added_through_the_api(run):
+    """add_label engraves the case's name where asked (one undo step); a label too close to a sleeve is
+    refused naming it and the sleeve, and the guide stays as it was; add_slot cuts a slot; undo takes it back."""
+    a = run["added"]
+    assert a["label"]["text"] == "TIB 1" and a["label"]["count"] == 1, "the guide's name by default"
+    assert "Invalid" not in a["label"]["state"]
+    assert a["refused"] is not None and "label 'label 2'" in a["refused"] and "distal screw" in a["refused"]
+    assert a["after_refusal"]["count"] == 1 and "Invalid" not in a["after_refusal"]["state"]
+    assert a["after_refusal"]["volume"] == pytest.approx(a["label"]["volume"], rel=1e-9)
+    assert a["slot"]["name"] == "slot 3" and a["slot"]["count"] == 3 and "Invalid" not in a["slot"]["state"]
+    assert a["after_undo"] == {"slots": 2, "labels": 1}

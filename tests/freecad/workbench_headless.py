@@ -140,6 +140,7 @@ doc_tibia.recompute()
 measure(pinned, "tibia_without_slots")
 pinned.Slots = slots_text
 doc_tibia.recompute()
+result["tibia_protocol"] = st.drill_protocol(pinned)
 # And without its label: the engraving takes material too.
 labels_text = pinned.Labels
 pinned.Labels = ""
@@ -147,4 +148,28 @@ doc_tibia.recompute()
 measure(pinned, "tibia_without_labels")
 pinned.Labels = labels_text
 doc_tibia.recompute()
+# Labels and slots added through the API: one undo step each; a refused one leaves the guide as it was.
+labels_before = pinned.Labels
+volume_before = pinned.Mesh.Volume
+added = {}
+doc_tibia.UndoMode = 1
+pinned.Labels = ""
+pinned.Label = "TIB 1"   # the case's name, the default text (the example's is too long for this guide)
+doc_tibia.recompute()
+label = st.add_label(pinned, (621.0, 412.0, 350.0), (0, 0, 1), height=3.5)
+added["label"] = {"text": label["text"], "name": label["name"], "count": len(json.loads(pinned.Labels)),
+                  "state": list(pinned.State), "volume": pinned.Mesh.Volume}
+try:
+    st.add_label(pinned, (621.0, 412.0, 359.0), (0, 0, 1), text="NEAR")
+    added["refused"] = None
+except RuntimeError as e:
+    added["refused"] = str(e)
+added["after_refusal"] = {"count": len(json.loads(pinned.Labels)), "state": list(pinned.State),
+                          "volume": pinned.Mesh.Volume}
+slot = st.add_slot(pinned, (617.0, 411.9, 369.0), (0, 0, 1), (0, 1, 0), blade=0.6, length=12, closed=["start"])
+added["slot"] = {"name": slot["name"], "count": len(json.loads(pinned.Slots)), "state": list(pinned.State)}
+doc_tibia.undo()
+doc_tibia.recompute()
+added["after_undo"] = {"slots": len(json.loads(pinned.Slots)), "labels": len(json.loads(pinned.Labels))}
+result["added"] = added
 print("RESULT " + json.dumps(result))

@@ -68,6 +68,7 @@ def test_slots_read_written_and_designed_through_the_module(stk, tmp_path):
     # The workbench's way: the slots added to the designed body (add_tubes) give the same guide.
     g = stk.add_tubes(*r["body"], r["inner_faces"], v, f, [], clearance=case["clearance"], slots=case["slots"])
     assert [s["name"] for s in g["slots"]] == ["proximal cut", "distal cut"]
+    assert all(s["blade_path_free"] for s in g["slots"]), "add_tubes checks the blade paths too"
     assert stk.check_solid(*g["mesh"])["volume"] == pytest.approx(r["solid"]["volume"], rel=1e-9)
 
 

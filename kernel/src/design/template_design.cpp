@@ -229,12 +229,10 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   std::optional<AabbTree> bone_tree;
   // Pins planned by their entry only go into the bone there (pin_direction), decided before any work.
   std::vector<TubeSpec> tubes = options.tubes;
-  for (TubeSpec& t : tubes) {
-    if (!t.auto_direction) continue;
+  direct_pins(tubes, [&]() -> const AabbTree& {
     if (!bone_tree) bone_tree.emplace(bone);
-    t.direction = pin_direction(t, *bone_tree, std::max(3.0, 2.0 * t.outer_radius));
-    t.auto_direction = false;
-  }
+    return *bone_tree;
+  });
 
   // 1. Inner surface: the boundary curve and the cut.
   auto t0 = Clock::now();
@@ -445,12 +443,14 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     guide_options.chordal_tolerance = options.tube_tolerance;
     guide_options.clearance = options.clearance;
     guide_options.thickness = options.thickness;
+    guide_options.check_blade_paths = options.check;
     GuideResult guide = build_guide(result.shell, result.body_inner_faces, bone,
                                     GuideParts{tubes, options.slots, options.labels}, guide_options);
     result.times.boolean = guide.seconds;
     result.tubes = std::move(guide.tubes);
     result.slots = std::move(guide.slots);
     result.labels = std::move(guide.labels);
+    result.blade_paths = std::move(guide.blade_paths);
     result.perturbed_operations = guide.perturbed_operations;
     result.max_perturbation = guide.max_perturbation;
     result.curve_tolerance = guide.curve_tolerance;
@@ -465,13 +465,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
       result.solid = check_solid(result.shell);
       if (!result.solid.valid())
         throw GeometryError("the guide with its tubes failed its check: " + result.solid.summary());
-      for (std::size_t i = 0; i < options.slots.size(); ++i) {
-        result.blade_paths.push_back(check_blade_path(result.shell, options.slots[i], result.slots[i]));
-        if (const auto& at = result.blade_paths.back().blocked; at && !std::getenv("ST_DEBUG_SLOTS"))
-          throw GeometryError("slot '" + options.slots[i].name + "': guide material is left in the blade's path near " +
-                              detail::where(*at));
-      }
-      result.times.validation += seconds_since(t0);
+      result.times.validation += seconds_since(t0) + guide.blade_path_seconds;
     }
   } else {
     result.body = result.shell;

@@ -12,9 +12,11 @@
 #include "guide/label_guide.h"
 #include "guide/seat.h"
 #include "guide/slot_guide.h"
+#include "st/guide/blade_path.h"
 #include "st/guide/inspect.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <array>
 #include <limits>
 #include <chrono>
@@ -354,14 +356,11 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
   std::vector<TubeSpec> tubes = parts.tubes;
   const std::vector<SlotSpec>& slots = parts.slots;
   // Pins planned by their entry only go into the bone there.
-  if (std::any_of(tubes.begin(), tubes.end(), [](const TubeSpec& t) { return t.auto_direction; })) {
-    const AabbTree all_bone(bone);
-    for (TubeSpec& t : tubes)
-      if (t.auto_direction) {
-        t.direction = pin_direction(t, all_bone, std::max(3.0, 2.0 * t.outer_radius));
-        t.auto_direction = false;
-      }
-  }
+  std::optional<AabbTree> all_bone;
+  direct_pins(tubes, [&]() -> const AabbTree& {
+    if (!all_bone) all_bone.emplace(bone);
+    return *all_bone;
+  });
   const auto t0 = Clock::now();
   if (!(options.chordal_tolerance > 0.0) || !(options.chordal_tolerance < 1.0))
     throw InvalidInput("chordal tolerance: must be in (0, 1) mm, got " + detail::number(options.chordal_tolerance));
@@ -514,6 +513,16 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
   result.bores = std::move(bores);
   result.bore_seconds = seconds_since(t1);
   result.seconds = seconds_since(t0);
+  if (options.check_blade_paths) {
+    const auto t2 = Clock::now();
+    for (std::size_t i = 0; i < slots.size(); ++i) {
+      result.blade_paths.push_back(check_blade_path(result.mesh, slots[i], result.slots[i]));
+      if (const auto& at = result.blade_paths.back().blocked; at && !std::getenv("ST_DEBUG_SLOTS"))
+        throw GeometryError("slot '" + slots[i].name + "': guide material is left in the blade's path near " +
+                            detail::where(*at));
+    }
+    result.blade_path_seconds = seconds_since(t2);
+  }
   return result;
 }
 

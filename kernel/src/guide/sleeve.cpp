@@ -154,4 +154,12 @@ Vec3 pin_direction(const TubeSpec& tube, const AabbTree& bone, double radius) {
   return -sum.normalized();
 }
 
+void direct_pins(std::vector<TubeSpec>& tubes, const std::function<const AabbTree&()>& bone_tree) {
+  for (TubeSpec& t : tubes) {
+    if (!t.auto_direction) continue;
+    t.direction = pin_direction(t, bone_tree(), std::max(3.0, 2.0 * t.outer_radius));
+    t.auto_direction = false;
+  }
+}
+
 } // namespace st

@@ -195,7 +195,11 @@ nlohmann::json to_json(const StabilityResult& s) {
 
 nlohmann::json to_json(const GuideResult& g) {
   nlohmann::json slots = nlohmann::json::array();
-  for (const SlotPlacement& p : g.slots) slots.push_back(to_json(p));
+  for (std::size_t i = 0; i < g.slots.size(); ++i) {
+    nlohmann::json s = to_json(g.slots[i]);
+    if (i < g.blade_paths.size()) s["blade_path_free"] = g.blade_paths[i].free;
+    slots.push_back(s);
+  }
   nlohmann::json labels = nlohmann::json::array();
   for (const LabelPlacement& p : g.labels) labels.push_back(to_json(p));
   return {{"tubes", placements(g.tubes)},

@@ -1,5 +1,5 @@
 """The workbench's design commands, in the order of the work: draw a boundary on the bone, create the
-template, add drilling tubes, create the guide, validate it. The first opens its task panel; the others
+template, add drilling tubes, create the guide, add saw slots and labels to it, validate it. The first opens its task panel; the others
 run recorded code through the API (SurgicalTemplate.py), one undo step each."""
 import FreeCAD as App
 import FreeCADGui as Gui
@@ -9,7 +9,7 @@ from stfunctions.query import tree_of
 from sttaskpanels.boundary import BoundaryPanel
 from sttaskpanels.tube import TubePanel
 from sttaskpanels.validate import ValidatePanel
-from stutils.gui_utils import preference, ref, run, selected
+from stutils.gui_utils import picked_on, preference, ref, run, selected, view_axes
 
 
 class CreateTemplate(Command):
@@ -95,3 +95,43 @@ class AddTube(Command):
             bones = [o for o in App.ActiveDocument.Objects if o.TypeId == "Mesh::Feature"]
             guide, bone = None, bones[-1] if bones else None
         Gui.Control.showDialog(TubePanel(bone, guide))
+
+
+def _vec(v):
+    return f"({v.x:.6f}, {v.y:.6f}, {v.z:.6f})"
+
+
+class _AtPickedPoint(Command):
+    """A command on the guide at the point where it was clicked, with the 3D view's axes; subclasses give
+    the title and the recorded call (code)."""
+
+    title = ""
+
+    def IsActive(self):
+        return picked_on("Guide")[0] is not None and Gui.ActiveDocument is not None
+
+    def Activated(self):
+        guide, point = picked_on("Guide")
+        run(self.title, self.code(ref(guide), _vec(point), *(_vec(v) for v in view_axes())))
+
+
+class AddLabel(_AtPickedPoint):
+    name, menu, title = "AddLabel", "Add label", "Add label"
+    tip = ("Engrave a label into the guide where you clicked it: the case's name by default, reading across "
+           "the 3D view (its up the view's up); cap height and depth from the preferences. Edit the text in "
+           "the guide's Labels")
+
+    def code(self, guide, at, look, up, right):
+        return (f"SurgicalTemplate.add_label({guide}, {at}, {up}, height={preference('LabelHeight', 4.0)}, "
+                f"depth={preference('LabelDepth', 0.6)})")
+
+
+class AddSlot(_AtPickedPoint):
+    name, menu, title = "AddSlot", "Add saw slot from view", "Add saw slot"
+    tip = ("Add a saw slot where you clicked the guide: the saw travels the way you look, the cut plane holds "
+           "the view's up (it shows as a vertical line); blade and length from the preferences. Edit it in "
+           "the guide's Slots")
+
+    def code(self, guide, origin, look, up, right):
+        return (f"SurgicalTemplate.add_slot({guide}, {origin}, {right}, {look}, blade={preference('SlotBlade', 0.89)}, "
+                f"length={preference('SlotLength', 16.0)})")

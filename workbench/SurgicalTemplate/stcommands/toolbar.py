@@ -1,7 +1,8 @@
 """The workbench's commands in toolbar and menu order, and their registration with FreeCAD."""
 import FreeCADGui as Gui
 
-from stcommands.design import AddTube, CreateGuide, CreateTemplate, DrawBoundary, InsertionFromView, Validate
+from stcommands.design import (AddLabel, AddSlot, AddTube, CreateGuide, CreateTemplate, DrawBoundary,
+                               InsertionFromView, Validate)
 from stcommands.files import ExportSTL, ImportBone, ImportPlan, MakeDrawing, OpenCase, SaveCase
 
 
@@ -15,6 +16,8 @@ COMMANDS = {
     "SurgicalTemplate_InsertionFromView": InsertionFromView(),
     "SurgicalTemplate_AddTube": AddTube(),
     "SurgicalTemplate_CreateGuide": CreateGuide(),
+    "SurgicalTemplate_AddSlot": AddSlot(),
+    "SurgicalTemplate_AddLabel": AddLabel(),
     "SurgicalTemplate_Validate": Validate(),
     "SurgicalTemplate_ExportSTL": ExportSTL(),
     "SurgicalTemplate_Drawing": MakeDrawing(),

@@ -1,5 +1,6 @@
-"""The drill protocol of a guide: the numbers of its sleeves (sleeve_rows) and of its template, and the
-protocol as a text table (drill_protocol), which the drawing's tables and its .txt file share.
+"""The drill protocol of a guide: the numbers of its sleeves (sleeve_rows), saw slots (slot_rows),
+labels (label_rows) and of its template, and the protocol as text tables (drill_protocol), which the
+drawing's tables and its .txt file share.
 
     import SurgicalTemplate as st
     print(st.drill_protocol(guide))
@@ -8,6 +9,8 @@ import datetime
 import math
 
 import numpy as np
+
+from stobjects.guide import Guide
 
 
 def vec(v):
@@ -34,7 +37,7 @@ def sleeve_rows(guide):
         depth = float(getattr(depth, "Value", depth) or 0.0)
         to_entry = offset + length
         rows.append({
-            "name": tube.Label, "entry": entry, "direction": d,
+            "name": tube.Label, "kind": getattr(tube, "Kind", "sleeve") or "sleeve", "entry": entry, "direction": d,
             "azimuth": math.degrees(math.atan2(d[1], d[0])),
             "elevation": math.degrees(math.asin(max(-1.0, min(1.0, d[2])))),
             "inner_diameter": 2.0 * float(tube.InnerRadius.Value),
@@ -43,6 +46,30 @@ def sleeve_rows(guide):
             "depth_to_entry": to_entry, "depth": depth, "total_depth": to_entry + depth if depth > 0 else None,
         })
     return rows
+
+
+def slot_rows(guide):
+    """One dict per saw slot of the guide (mm): name, origin, normal (unit), travel (the saw's direction
+    in the plane, unit), blade, clearance, width (blade + 2 x clearance), length, closed (its closed ends)."""
+    rows = []
+    for s in Guide.slots_of(guide):
+        n = np.asarray(s["normal"], float)
+        n /= np.linalg.norm(n)
+        d = np.asarray(s["direction"], float)
+        d = d - d.dot(n) * n
+        d /= np.linalg.norm(d)
+        clearance = float(s.get("clearance", 0.1))
+        rows.append({"name": s["name"], "origin": np.asarray(s["origin"], float), "normal": n, "travel": d,
+                     "blade": float(s["blade"]), "clearance": clearance, "width": float(s["blade"]) + 2 * clearance,
+                     "length": float(s["length"]), "closed": list(s.get("closed", ["start", "end"]))})
+    return rows
+
+
+def label_rows(guide):
+    """One dict per label of the guide: name, text, mode, at, height (cap height, mm), depth (mm)."""
+    return [{"name": l.get("name") or f"label {i + 1}", "text": l["text"], "mode": l.get("mode", "engrave"),
+             "at": np.asarray(l["at"], float), "height": float(l.get("height", 4.0)),
+             "depth": float(l.get("depth", 0.6))} for i, l in enumerate(Guide.labels_of(guide))]
 
 
 def template_info(guide, date):
@@ -61,7 +88,8 @@ def _num(x):
 
 
 def drill_protocol(guide, date=None):
-    """The drill protocol of a guide as text: one table row per sleeve (mm, degrees)."""
+    """The drill protocol of a guide as text: one table row per sleeve or pin (mm, degrees), then the saw
+    slots and the labels when it has them."""
     date = date or datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
     info = template_info(guide, date)
     lines = [
@@ -80,20 +108,47 @@ def drill_protocol(guide, date=None):
         "Drill: the sleeve's inner diameter.",
         "",
     ]
-    head = ["Sleeve", "Entry X", "Entry Y", "Entry Z", "Dir X", "Dir Y", "Dir Z", "Azimuth", "Elevation",
+    head = ["Sleeve", "Kind", "Entry X", "Entry Y", "Entry Z", "Dir X", "Dir Y", "Dir Z", "Azimuth", "Elevation",
             "Top X", "Top Y", "Top Z", "Depth to entry", "Planned depth", "Total depth", "Drill diameter"]
     table = [head]
     for r in sleeve_rows(guide):
-        table.append([r["name"], *(f"{c:.3f}" for c in r["entry"]), *(f"{c:.5f}" for c in r["direction"]),
+        table.append([r["name"], r["kind"], *(f"{c:.3f}" for c in r["entry"]), *(f"{c:.5f}" for c in r["direction"]),
                       f"{r['azimuth']:.2f}", f"{r['elevation']:.2f}", *(f"{c:.3f}" for c in r["top"]),
                       _num(r["depth_to_entry"]), _num(r["depth"]) if r["depth"] > 0 else "-",
                       _num(r["total_depth"]) if r["total_depth"] is not None else "-", _num(r["inner_diameter"])])
-    widths = [max(len(row[i]) for row in table) for i in range(len(head))]
+    lines += _table(table)
+    if len(table) == 1:
+        lines.append("(no sleeves)")
+    slots = slot_rows(guide)
+    if slots:
+        lines += ["", "Saw slots: the cut plane through the origin with its normal; the saw travels along the travel "
+                  "direction; width = blade + 2 x clearance; closed: the ends the housing closes (start at -length/2 "
+                  "across the travel, end at +length/2).", ""]
+        table = [["Slot", "Origin X", "Origin Y", "Origin Z", "Normal X", "Normal Y", "Normal Z", "Travel X",
+                  "Travel Y", "Travel Z", "Blade", "Width", "Length", "Closed"]]
+        for r in slots:
+            table.append([r["name"], *(f"{c:.3f}" for c in r["origin"]), *(f"{c:.5f}" for c in r["normal"]),
+                          *(f"{c:.5f}" for c in r["travel"]), _num(r["blade"]), _num(r["width"]), _num(r["length"]),
+                          "+".join(r["closed"]) or "open"])
+        lines += _table(table)
+    labels = label_rows(guide)
+    if labels:
+        lines += ["", "Labels: text engraved into (or embossed onto) the outer surface, centred near the point.", ""]
+        table = [["Label", "Text", "Mode", "At X", "At Y", "At Z", "Cap height", "Depth"]]
+        for r in labels:
+            table.append([r["name"], r["text"], r["mode"], *(f"{c:.3f}" for c in r["at"]), _num(r["height"]),
+                          _num(r["depth"])])
+        lines += _table(table)
+    return "\n".join(lines) + "\n"
+
+
+def _table(table):
+    """Markdown-like lines of a table (first row the head; first column left-aligned)."""
+    widths = [max(len(row[i]) for row in table) for i in range(len(table[0]))]
+    lines = []
     for k, row in enumerate(table):
         cells = [c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in enumerate(zip(row, widths))]
         lines.append("| " + " | ".join(cells) + " |")
         if k == 0:
             lines.append("|" + "|".join("-" * (w + 2) for w in widths) + "|")
-    if len(table) == 1:
-        lines.append("(no sleeves)")
-    return "\n".join(lines) + "\n"
+    return lines

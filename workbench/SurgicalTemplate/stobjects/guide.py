@@ -81,10 +81,14 @@ class Guide(Feature):
         slots = self.slots_of(obj)
         labels = self.labels_of(obj)
         if tubes or slots or labels:
-            g = st_bridge.call(k.add_tubes, V, F, int(shell.InnerFaces), BV, BF, tubes,
-                               chordal_tolerance=float(obj.Tolerance.Value),
-                               clearance=float(shell.Clearance.Value), slots=slots, labels=labels,
-                               thickness=float(shell.Thickness.Value))
+            try:
+                g = st_bridge.call(k.add_tubes, V, F, int(shell.InnerFaces), BV, BF, tubes,
+                                   chordal_tolerance=float(obj.Tolerance.Value),
+                                   clearance=float(shell.Clearance.Value), slots=slots, labels=labels,
+                                   thickness=float(shell.Thickness.Value))
+            except Exception as e:  # the kernel's message names the part and the place
+                obj.Status = f"failed: {e}"
+                raise
             V, F = g["mesh"]
             seconds = g["seconds"]
         else:

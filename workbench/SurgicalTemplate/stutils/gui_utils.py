@@ -48,6 +48,25 @@ def selected(kind):
     return [o for o in Gui.Selection.getSelection() if kind_of(o) == kind]
 
 
+def picked_on(kind):
+    """(object, point) of the first selected object of a kind picked at a point in the 3D view (the point
+    where it was clicked), else (None, None)."""
+    for sel in Gui.Selection.getSelectionEx():
+        if kind_of(sel.Object) == kind and sel.PickedPoints:
+            return sel.Object, sel.PickedPoints[0]
+    return None, None
+
+
+def view_axes(doc=None):
+    """The 3D view's (direction of view, up, right) as FreeCAD vectors: where the camera looks, its up
+    and its right on the screen."""
+    view = Gui.ActiveDocument.ActiveView if doc is None else Gui.getDocument(doc.Name).ActiveView
+    rotation = view.getCameraOrientation()
+    look = rotation.multVec(App.Vector(0, 0, -1))
+    up = rotation.multVec(App.Vector(0, 1, 0))
+    return look, up, look.cross(up)
+
+
 def ref(obj):
     return f"App.getDocument({obj.Document.Name!r}).getObject({obj.Name!r})"
 

@@ -10,12 +10,6 @@
 
 namespace st {
 
-struct BladePathReport {
-  std::string name;
-  bool free = false;           ///< no guide material in the path
-  std::optional<Vec3> blocked; ///< where guide material lies in it
-};
-
 /// Whether any guide material lies in the slab |n . (x - o)| < width / 2 - tolerance over the slot's
 /// planned extent (|e . (x - o)| < length / 2 - tolerance) from the slot's bottom (past the template's
 /// inner surface) up to the housing's top: the path of a blade of the planned thickness plus its

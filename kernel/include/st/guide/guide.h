@@ -36,6 +36,9 @@ struct GuideOptions {
   /// The template's wall thickness: an engraved label must leave at least thickness - depth of wall
   /// under it (0: not checked).
   double thickness = 0.0;
+  /// Each slot's blade path checked free on the finished guide (check_blade_path); a guide that fails
+  /// it is refused, naming the slot and the place.
+  bool check_blade_paths = true;
 };
 
 /// What was decided for one tube; heights z along its axis from the entry, outward (sleeve.h).
@@ -94,6 +97,13 @@ struct LabelPlacement {
   double min_clearance = 0.0;  ///< the text's least distance to a sleeve, bore or slot housing (infinite: none)
 };
 
+/// A slot's blade path on the finished guide (blade_path.h).
+struct BladePathReport {
+  std::string name;
+  bool free = false;           ///< no guide material in the path
+  std::optional<Vec3> blocked; ///< where guide material lies in it
+};
+
 /// Everything a guide carries besides its template.
 struct GuideParts {
   std::vector<TubeSpec> tubes;
@@ -107,17 +117,19 @@ struct GuideResult {
   std::vector<TubePlacement> tubes;
   std::vector<SlotPlacement> slots;
   std::vector<LabelPlacement> labels;
-  double placement_seconds = 0.0;    ///< rays along the axes (part of union_seconds)
-  double columns_seconds = 0.0;      ///< columns united with each other (part of union_seconds)
-  double union_seconds = 0.0;        ///< placement, columns united with each other and with the shell
-  double bore_seconds = 0.0;         ///< bores united and cut
-  double seconds = 0.0;              ///< all of it: the paper's "Runtime of Boolean operation"
-  int perturbed_operations = 0;      ///< Boolean operations that needed a tiny displacement
-  double max_perturbation = 0.0;     ///< the largest such displacement, mm (surfaces may move this much)
-  double curve_tolerance = 0.0;      ///< how far the intersection curves may have moved, mm (boolean.h)
-  std::size_t fragments_dropped = 0; ///< slivers of template the bores cut off the guide (dropped)
-  TriangleMesh columns;              ///< the sleeve columns united (second operand of the union)
-  TriangleMesh bores;                ///< the bores united (second operand of the difference)
+  std::vector<BladePathReport> blade_paths; ///< per slot, with options.check_blade_paths
+  double blade_path_seconds = 0.0;          ///< the blade paths' check (validation: not in `seconds`)
+  double placement_seconds = 0.0;           ///< rays along the axes (part of union_seconds)
+  double columns_seconds = 0.0;             ///< columns united with each other (part of union_seconds)
+  double union_seconds = 0.0;               ///< placement, columns united with each other and with the shell
+  double bore_seconds = 0.0;                ///< bores united and cut
+  double seconds = 0.0;                     ///< all of it: the paper's "Runtime of Boolean operation"
+  int perturbed_operations = 0;             ///< Boolean operations that needed a tiny displacement
+  double max_perturbation = 0.0;            ///< the largest such displacement, mm (surfaces may move this much)
+  double curve_tolerance = 0.0;             ///< how far the intersection curves may have moved, mm (boolean.h)
+  std::size_t fragments_dropped = 0;        ///< slivers of template the bores cut off the guide (dropped)
+  TriangleMesh columns;                     ///< the sleeve columns united (second operand of the union)
+  TriangleMesh bores;                       ///< the bores united (second operand of the difference)
 };
 
 /// Merges `tubes` into the closed template `shell` whose first `inner_faces` faces are its inner

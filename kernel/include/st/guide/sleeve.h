@@ -63,4 +63,9 @@ TriangleMesh footed_cylinder_mesh(const Cylinder& cylinder, double chordal_toler
 /// the normals there cancel (less than a fifth of the area faces one way: an edge or a thin crest).
 Vec3 pin_direction(const TubeSpec& tube, const AabbTree& bone, double radius);
 
+/// Gives each tube planned by its entry only (auto_direction) its pin_direction within max(3 mm,
+/// 2 x outer radius) of its entry; `bone_tree` makes the bone's tree when one is first needed (the
+/// callers that have one already hand it back). Throws as pin_direction.
+void direct_pins(std::vector<TubeSpec>& tubes, const std::function<const AabbTree&()>& bone_tree);
+
 } // namespace st
