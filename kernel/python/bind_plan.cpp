@@ -138,6 +138,23 @@ void bind_plan(py::module_& m) {
       "The sleeve catalogue (surgical-template-sleeves/1) of the file at `path`, or the one built in: "
       "[{name, description, inner_radius, outer_radius, length, offset}] in mm.");
   m.def(
+      "blade_presets",
+      [](const std::optional<std::string>& path) {
+        py::list out;
+        for (const BladePreset& b : path ? read_blade_presets(*path) : default_blade_presets()) {
+          py::dict d;
+          d["name"] = b.name;
+          d["description"] = b.description;
+          d["thickness"] = b.thickness;
+          d["clearance"] = b.clearance;
+          out.append(d);
+        }
+        return out;
+      },
+      py::arg("path") = py::none(),
+      "The saw blades of a catalogue (its 'blades' section), of the file at `path` or the one built in: "
+      "[{name, description, thickness, clearance}] in mm; a slot for one is thickness + 2 x clearance wide.");
+  m.def(
       "tube_from_axis",
       [](const py::dict& axis, const std::optional<py::dict>& preset) {
         return tube_dict(tube_from_axis(to_axis(axis), preset ? std::optional(to_preset(*preset)) : std::nullopt));

@@ -165,7 +165,15 @@ int presets(int argc, char** argv) {
   for (const st::SleevePreset& p : options.catalogue())
     std::printf("%-16s %8.2f %8.2f %8.2f %8.2f  %s\n", p.name.c_str(), 2 * p.inner_radius, 2 * p.outer_radius, p.length,
                 p.offset, p.description.c_str());
-  std::printf("(diameters, lengths in mm)\n");
+  const std::vector<st::BladePreset> blades =
+      options.presets_file.empty() ? st::default_blade_presets() : st::read_blade_presets(options.presets_file);
+  if (!blades.empty()) {
+    std::printf("\n%-16s %8s %8s %8s  %s\n", "blade", "thick", "gap", "slot", "description");
+    for (const st::BladePreset& b : blades)
+      std::printf("%-16s %8.2f %8.2f %8.2f  %s\n", b.name.c_str(), b.thickness, b.clearance,
+                  b.thickness + 2 * b.clearance, b.description.c_str());
+  }
+  std::printf("(diameters, lengths in mm; a blade's slot is its thickness + 2 x gap wide)\n");
   return 0;
 }
 

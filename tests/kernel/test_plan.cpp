@@ -481,3 +481,30 @@ TEST(Plan, SlicerPlanDesignsAValidGuide) {
   st::test::expect_valid_solid(r.shell);
   EXPECT_EQ(r.tubes.size(), 2u);
 }
+
+// Saw blades in the catalogue's own section: the built-in ones found by name; a user's file checked by
+// key; a catalogue without blades has none.
+TEST(Plan, BladePresetsAreInTheCatalogueAndCheckedByKey) {
+  const std::vector<BladePreset>& blades = default_blade_presets();
+  ASSERT_GE(blades.size(), 5u);
+  const BladePreset& b = find_blade_preset(blades, "SAGITTAL-0.89");
+  EXPECT_EQ(b.name, "sagittal-0.89");
+  EXPECT_DOUBLE_EQ(b.thickness, 0.89);
+  EXPECT_DOUBLE_EQ(b.clearance, 0.1);
+  EXPECT_THROW(find_blade_preset(blades, "chainsaw"), InvalidInput);
+  auto refused = [](const std::string& list, const std::string& words) {
+    try {
+      parse_blade_presets(R"({"format": "surgical-template-sleeves/1", "sleeves": [], "blades": )" + list + "}",
+                          "mine.json");
+      ADD_FAILURE() << "accepted: " << list;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  refused(R"([{"name": "x"}])", "mine.json: blades[0].thickness: is required");
+  refused(R"([{"name": "x", "thickness": -1}])", "blades[0].thickness: must be > 0");
+  refused(R"([{"name": "x", "thickness": 1, "clearance": -0.1}])", "blades[0].clearance: must be >= 0");
+  refused(R"([{"name": "x", "thickness": 1}, {"name": "x", "thickness": 2}])", "blades[1].name");
+  refused(R"({"name": "x"})", "blades: must be an array");
+  EXPECT_TRUE(parse_blade_presets(R"({"format": "surgical-template-sleeves/1", "sleeves": []})", "s.json").empty());
+}

@@ -103,6 +103,21 @@ def test_labels_read_written_and_engraved_through_the_module(stk, tmp_path):
         stk.design_template(v, f, case["boundary_points"], case["thickness"], labels=[far], **args)
 
 
+def test_blade_presets_of_the_catalogue_and_of_a_users_file(stk, tmp_path):
+    """The catalogue's saw blades (its own section), and a user's catalogue with its own blade, checked by key."""
+    blades = {b["name"]: b for b in stk.blade_presets()}
+    assert blades["sagittal-1.27"]["thickness"] == pytest.approx(1.27)
+    assert blades["micro-0.4"]["clearance"] == pytest.approx(0.1)
+    mine = tmp_path / "mine.json"
+    mine.write_text('{"format": "surgical-template-sleeves/1", "sleeves": [], '
+                    '"blades": [{"name": "vendor-0.7", "thickness": 0.7, "clearance": 0.05}]}')
+    assert stk.blade_presets(str(mine)) == [{"name": "vendor-0.7", "description": "", "thickness": 0.7,
+                                             "clearance": 0.05}]
+    mine.write_text('{"format": "surgical-template-sleeves/1", "sleeves": [], "blades": [{"name": "v"}]}')
+    with pytest.raises(ValueError, match=r"blades\[0\]\.thickness"):
+        stk.blade_presets(str(mine))
+
+
 def test_pins_from_presets_and_the_direction_into_the_bone(stk):
     """A pin preset makes a pin tube with its counterbore; a pin planned by its entry only gets the
     direction into the bone there (against the surface's normal)."""

@@ -82,6 +82,7 @@ def test_plan_errors_name_the_file_and_line(tmp_path):
 def test_presets_command_lists_the_catalogue(tmp_path):
     p = run("presets")
     assert p.returncode == 0 and "pilot-2.0" in p.stdout and "kwire-2.0" in p.stdout
+    assert "sagittal-0.89" in p.stdout and "1.09" in p.stdout, "the blades and their slot widths"
     mine = tmp_path / "mine.json"
     mine.write_text('{"format": "surgical-template-sleeves/1", "sleeves": [{"name": "x", "inner_diameter": 1, '
                     '"outer_diameter": 0.5, "length": 3}]}')

@@ -110,6 +110,27 @@ const std::vector<SleevePreset>& default_sleeve_presets();
 /// names when there is none.
 const SleevePreset& find_sleeve_preset(const std::vector<SleevePreset>& presets, const std::string& name);
 
+/// A saw blade of the catalogue (its "blades" section): a slot planned for it is thickness + 2 x
+/// clearance wide (slot.h).
+struct BladePreset {
+  std::string name;
+  std::string description;
+  double thickness = 0.0;
+  double clearance = 0.1;
+};
+
+/// Parses the blades of a catalogue (the same file as the sleeves): "blades": [{"name", "thickness",
+/// "clearance"? (default 0.1), "description"?}], optional (none: no blades). Throws InvalidInput
+/// naming the file and the key.
+std::vector<BladePreset> parse_blade_presets(const std::string& text, const std::string& path);
+std::vector<BladePreset> read_blade_presets(const std::string& path);
+
+/// The blades of the catalogue that ships with the project.
+const std::vector<BladePreset>& default_blade_presets();
+
+/// The blade called `name` (exact, then case-insensitive); InvalidInput listing the names when there is none.
+const BladePreset& find_blade_preset(const std::vector<BladePreset>& presets, const std::string& name);
+
 /// A tube from a plan axis: sizes from the axis where it gives them, else from `sizes`. Throws
 /// InvalidInput naming the axis when a size is missing from both or the sleeve is impossible.
 TubeSpec tube_from_axis(const PlanAxis& axis, const std::optional<SleevePreset>& sizes);
