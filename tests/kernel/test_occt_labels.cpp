@@ -232,6 +232,26 @@ TEST(Labels, BadLabelsAreRefusedNamingTheLabel) {
   refused(none, "label 'N': its text has no outlines");
 }
 
+TEST(Labels, AnEngravingNeverCutsThroughTheWallEvenWithoutAThicknessToKeep) {
+  // build_guide without options.thickness (add_tubes' default) does not check thickness - depth, but the
+  // floor still stays 0.2 mm over the inner surface: a 2.4 mm engraving in a 2.5 mm wall is refused.
+  const TriangleMesh bone = plate_bone();
+  const TemplateResult plain = design_template(bone, plate_template());
+  LabelSpec deep = make_label("DEEP", {-2, -7, 3});
+  deep.depth = 2.4;
+  try {
+    build_guide(plain.body, plain.body_inner_faces, bone, GuideParts{{}, {}, {deep}});
+    ADD_FAILURE() << "a label cut through the wall";
+  } catch (const GeometryError& e) {
+    EXPECT_NE(std::string(e.what()).find("label 'DEEP': the engraving would cut through the template's wall"),
+              std::string::npos)
+        << e.what();
+  }
+  deep.depth = 1.5; // leaves about 1 mm
+  const GuideResult r = build_guide(plain.body, plain.body_inner_faces, bone, GuideParts{{}, {}, {deep}});
+  EXPECT_TRUE(check_solid(r.mesh).valid());
+}
+
 TEST(Labels, RandomLabelsOnTheExamplesAreAsPlannedOrRefusedByName) {
   // Random texts (capitals, digits, signs) at random places of each example's outer surface, with a
   // random up direction, height, depth and mode, added to the guide with the example's tubes and

@@ -30,6 +30,9 @@ constexpr double kEmbossSink_mm = 0.3;
 constexpr double kLabelDepthMargin_mm = 0.005;
 /// Over a label's top, this far along its normal, nothing of the template may lie, mm.
 constexpr double kLabelSky_mm = 2.0;
+/// An engraving's floor stays at least this far over the template's inner surface, whatever the
+/// thickness asked for (the wall check, options.thickness, asks more when it is given), mm.
+constexpr double kMinFloorWall_mm = 0.2;
 /// The outer surface under a label may turn this far from the label's normal (cos 60 degrees).
 constexpr double kMinSurfaceCosine = 0.5;
 /// The wall left under an engraving may fall this fraction of the thickness short of
@@ -353,7 +356,7 @@ LaidLabel lay_label(const LabelSpec& label, const TriangleMesh& shell, std::size
                           "move it to a flatter place or make the text shorter");
       const auto exit = shell_tree.first_hit(from, -p.normal, first->t + 1e-9);
       surface[i] = window - first->t;
-      below[i] = exit ? window - exit->t : surface[i] - 2.0 * kEmbossSink_mm;
+      below[i] = exit ? window - exit->t : -std::numeric_limits<double>::infinity();
       low = std::min(low, surface[i]), high = std::max(high, surface[i]);
     }
     // Neighbours on one surface: no step between them steeper than the surface may turn.
@@ -396,6 +399,10 @@ LaidLabel lay_label(const LabelSpec& label, const TriangleMesh& shell, std::size
         top = surface[i] + label.depth + extra;
         bottom = surface[i] - std::min(kEmbossSink_mm, 0.5 * (surface[i] - below[i]));
       }
+      if (label.mode == LabelMode::engrave && bottom <= below[i] + kMinFloorWall_mm)
+        throw label_error(label, "the engraving would cut through the template's wall",
+                          plane_point(i) + surface[i] * p.normal,
+                          "move it away from the template's rim or engrave less deep");
       solid.positions[i] = plane_point(i) + bottom * p.normal;
       solid.positions[count + i] = plane_point(i) + top * p.normal;
       if (label.mode == LabelMode::engrave)
