@@ -6,6 +6,7 @@
 #include "st/core/errors.h"
 #include "st/core/predicates.h"
 #include "st/boolean/triangle_intersection.h"
+#include "st/guide/inspect.h"
 
 #include <algorithm>
 #include <cmath>
@@ -190,12 +191,6 @@ std::vector<std::vector<LabelPolygon>> disjoint_groups(const std::vector<LabelPo
   return groups;
 }
 
-double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
-  return (p - (a + t * ab)).norm();
-}
-
 } // namespace
 
 TextCap text_cap(const LabelSpec& label, const std::vector<LabelPolygon>& polygons, double spacing) {
@@ -241,7 +236,7 @@ TextCap text_cap(const LabelSpec& label, const std::vector<LabelPolygon>& polygo
 
 LaidLabel lay_label(const LabelSpec& label, const TriangleMesh& shell, std::size_t inner_faces,
                     const LabelObstacles& obstacles, const GuideOptions& options) {
-  check_label(label);
+  // The label's numbers were checked by build_guide.
   if (label.outlines.empty())
     throw InvalidInput("label '" + label.name +
                        "': its text has no outlines (they are made with OpenCASCADE's fonts, st/occt/occt_text.h)");
@@ -447,7 +442,8 @@ LaidLabel lay_label(const LabelSpec& label, const TriangleMesh& shell, std::size
         const TubeSpec& tube = obstacles.tubes[k];
         const TubePlacement& tp = obstacles.tube_places[k];
         const double r = std::max(tube.outer_radius, tube.counterbore ? tube.counterbore->radius : 0.0);
-        const double d = point_segment_distance(v, tube_point(tube, tp.bore_bottom), tube_point(tube, tp.bore_top)) - r;
+        const double d =
+            segment_segment_distance(v, v, tube_point(tube, tp.bore_bottom), tube_point(tube, tp.bore_top)) - r;
         p.min_clearance = std::min(p.min_clearance, d);
         if (d < kLabelClearance_mm)
           throw label_error(label, "it comes within " + detail::mm(kLabelClearance_mm) + " of tube '" + tube.name + "'",

@@ -37,7 +37,8 @@ struct LaidLabel {
   std::vector<TriangleMesh> solids;
 };
 
-/// Throws InvalidInput for a bad label and GeometryError naming the label and the place for a label
+/// `label` checked (check_label, as build_guide does). Throws InvalidInput for a label without outlines
+/// and GeometryError naming the label and the place for a label
 /// that cannot be laid (see build_guide).
 LaidLabel lay_label(const LabelSpec& label, const TriangleMesh& shell, std::size_t inner_faces,
                     const LabelObstacles& obstacles, const GuideOptions& options);
