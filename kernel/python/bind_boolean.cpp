@@ -1,6 +1,7 @@
 #include "convert.h"
 
 #include "st/boolean/boolean.h"
+#include "st/guide/blade_path.h"
 #include "st/guide/inspect.h"
 #include "st/validate/removal.h"
 #include "st/validate/stability.h"
@@ -80,6 +81,41 @@ void bind_boolean(py::module_& m) {
       "Inspects a finished guide on its bone: {solid, vertex_distance (per guide vertex, mm from the bone: the "
       "thickness map), vertices_in_bone, deepest_in_bone, seated_vertices, bores: [{name, margin, open}], passed, "
       "summary}; vertex_distance is negative behind the bone surface.");
+  m.def(
+      "check_blade_path",
+      [](const Points& vg, const Faces& fg, const py::dict& slot, const py::dict& placement, double tolerance) {
+        const TriangleMesh guide = to_mesh(vg, fg, "guide");
+        SlotSpec s = to_slot(slot, "slot");
+        if (placement.contains("direction")) { // the travel as built (a slot planned without one)
+          s.direction =
+              to_optional_point(py::object(placement["direction"]), "placement.direction").value_or(s.direction);
+          s.auto_direction = false;
+        }
+        if (s.auto_direction) throw InvalidInput("slot '" + s.name + "': no travel planned and none in the placement");
+        SlotPlacement p;
+        p.name = s.name;
+        p.width = placement["width"].cast<double>();
+        const py::list cut = placement["cut"], housing = placement["housing"];
+        p.cut_bottom = cut[0].cast<double>();
+        p.cut_top = cut[1].cast<double>();
+        p.housing_top = housing[1].cast<double>();
+        BladePathReport r;
+        {
+          py::gil_scoped_release release;
+          r = check_blade_path(guide, s, p, tolerance);
+        }
+        py::dict d;
+        d["name"] = r.name;
+        d["free"] = r.free;
+        d["blocked_at"] = r.blocked ? py::object(from_points({*r.blocked}).attr("reshape")(3)) : py::object(py::none());
+        return d;
+      },
+      py::arg("guide_vertices"), py::arg("guide_triangles"), py::arg("slot"), py::arg("placement"),
+      py::arg("tolerance") = 0.02,
+      "Whether a saw blade of the slot's planned thickness (plus its clearance on both sides) swept along the slot "
+      "over the planned cut meets no material of the finished guide: exact triangle tests (blade_path.h). `slot`: "
+      "the case file's slot keys; `placement`: the slot's entry of add_tubes' or design_template's 'slots' (width, "
+      "cut, housing, direction). Returns {name, free, blocked_at (a point of the guide in the way, or None)}.");
   m.def(
       "check_removal",
       [](const Points& vg, const Faces& fg, const Points& vb, const Faces& fb, const py::object& direction,

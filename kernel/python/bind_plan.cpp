@@ -98,6 +98,32 @@ SleevePreset to_preset(const py::dict& d) {
   return p;
 }
 
+py::dict plane_dict(const PlanPlane& p) {
+  const auto value = [](const std::optional<double>& v) {
+    return v ? py::object(py::float_(*v)) : py::object(py::none());
+  };
+  py::dict d;
+  d["name"] = p.name;
+  d["source"] = p.source;
+  d["origin"] = from_points({p.origin}).attr("reshape")(3);
+  d["normal"] = from_points({p.normal}).attr("reshape")(3);
+  d["direction"] = p.direction ? from_points({*p.direction}).attr("reshape")(3) : py::object(py::none());
+  d["blade"] = value(p.blade);
+  d["clearance"] = value(p.clearance);
+  d["length"] = value(p.length);
+  d["height"] = value(p.height);
+  d["wall"] = value(p.wall);
+  if (p.closed) {
+    py::list closed;
+    if ((*p.closed)[0]) closed.append("start");
+    if ((*p.closed)[1]) closed.append("end");
+    d["closed"] = closed;
+  } else {
+    d["closed"] = py::none();
+  }
+  return d;
+}
+
 } // namespace
 
 void bind_plan(py::module_& m) {
@@ -114,15 +140,19 @@ void bind_plan(py::module_& m) {
         py::list axes;
         for (const PlanAxis& a : plan.axes) axes.append(axis_dict(a));
         d["axes"] = axes;
+        py::list planes;
+        for (const PlanPlane& p : plan.planes) planes.append(plane_dict(p));
+        d["planes"] = planes;
         d["warnings"] = plan.warnings;
         return d;
       },
       py::arg("path"), py::arg("space") = "LPS",
-      "Reads a plan: a case file, a 3D Slicer markups file (.mrk.json) or a CSV of axes, in the frame `space` of "
-      "the bone it goes on (\"LPS\" or \"RAS\", see mesh_file_space). Returns {path, kind (\"case\", \"markups\", "
-      "\"csv\"), boundary_points (n, 3) or None, "
-      "inside, axes: [{name, source, entry, direction, depth, inner_radius, outer_radius, length, offset}] (sizes "
-      "None where the plan gives none), warnings}; raises ValueError naming the file and the entry.");
+      "Reads a plan: a case file, a 3D Slicer markups file (.mrk.json) or a CSV of axes or planes, in the frame "
+      "`space` of the bone it goes on (\"LPS\" or \"RAS\", see mesh_file_space). Returns {path, kind (\"case\", "
+      "\"markups\", \"csv\"), boundary_points (n, 3) or None, "
+      "inside, axes: [{name, source, entry, direction, depth, inner_radius, outer_radius, length, offset}], planes: "
+      "[{name, source, origin, normal, direction, blade, clearance, length, height, wall, closed}] (None where the "
+      "plan gives none), warnings}; raises ValueError naming the file and the entry.");
   m.def(
       "mesh_file_space", [](const std::string& path) { return space_name(mesh_file_space(path)); }, py::arg("path"),
       "\"RAS\" when the mesh file's header says SPACE=RAS, else \"LPS\" (3D Slicer's convention).");
@@ -175,16 +205,27 @@ void bind_plan(py::module_& m) {
   m.def(
       "apply_plan",
       [](const py::dict& c, const std::string& plan_path, const std::string& space,
-         const std::optional<py::dict>& preset, bool add_tubes) {
+         const std::optional<py::dict>& preset, bool add_tubes, const std::optional<py::dict>& blade,
+         std::optional<double> slot_length) {
         CaseFile out = to_case(c);
-        const std::vector<std::string> warnings = apply_plan(out, read_plan(plan_path, to_space(space)),
-                                                             preset ? std::optional(to_preset(*preset)) : std::nullopt,
-                                                             add_tubes ? PlanTubes::Add : PlanTubes::Replace);
+        SlotSizes slot_sizes;
+        if (blade) {
+          BladePreset b;
+          b.name = (*blade).contains("name") ? py::str((*blade)["name"]).cast<std::string>() : "blade";
+          b.thickness = (*blade)["thickness"].cast<double>();
+          b.clearance = (*blade).contains("clearance") ? (*blade)["clearance"].cast<double>() : 0.1;
+          slot_sizes.blade = b;
+        }
+        slot_sizes.length = slot_length;
+        const std::vector<std::string> warnings = apply_plan(
+            out, read_plan(plan_path, to_space(space)), preset ? std::optional(to_preset(*preset)) : std::nullopt,
+            add_tubes ? PlanTubes::Add : PlanTubes::Replace, slot_sizes);
         return py::make_tuple(case_dict(out), warnings);
       },
       py::arg("case"), py::arg("plan"), py::arg("space") = "LPS", py::arg("preset") = py::none(),
-      py::arg("add_tubes") = false,
+      py::arg("add_tubes") = false, py::arg("blade") = py::none(), py::arg("slot_length") = py::none(),
       "Puts the plan in the file `plan` (in the frame `space` of the case's bone) into a case (read_case's keys): "
-      "its boundary and inside point replace the case's, its axes become tubes (sizes it lacks from `preset`) "
+      "its boundary and inside point replace the case's, its axes become tubes (sizes it lacks from `preset`) and "
+      "its planes slots (blade and length it lacks from `blade`, a blade_presets dict, and `slot_length`), "
       "replacing the case's or, with add_tubes, added to them. Returns (case, warnings).");
 }

@@ -180,7 +180,8 @@ inline SlotSpec to_slot(const py::handle& item, const std::string& where) {
   s.name = d.contains("name") ? py::str(d["name"]).cast<std::string>() : where;
   s.origin = point("origin");
   s.normal = point("normal");
-  s.direction = point("direction");
+  if (d.contains("direction") && !d["direction"].is_none()) s.direction = point("direction");
+  else s.auto_direction = true; // into the bone in the plane (slot_direction), when built
   s.blade = number("blade", std::nullopt);
   s.length = number("length", std::nullopt);
   s.clearance = number("clearance", 0.1);
@@ -196,6 +197,10 @@ inline SlotSpec to_slot(const py::handle& item, const std::string& where) {
     }
   }
   if (const auto problem = slot_problem(s)) throw InvalidInput(where + "." + problem->key + ": " + problem->reason);
+  if (s.auto_direction) {
+    s.normal.normalize();
+    return s;
+  }
   const SlotFrame f = slot_frame(s);
   s.normal = f.n;
   s.direction = f.d;
@@ -215,7 +220,7 @@ inline py::dict slot_dict(const SlotSpec& s) {
   d["name"] = s.name;
   d["origin"] = from_points({s.origin}).attr("reshape")(3);
   d["normal"] = from_points({s.normal}).attr("reshape")(3);
-  d["direction"] = from_points({s.direction}).attr("reshape")(3);
+  d["direction"] = s.auto_direction ? py::object(py::none()) : from_points({s.direction}).attr("reshape")(3);
   d["blade"] = s.blade;
   d["clearance"] = s.clearance;
   d["length"] = s.length;

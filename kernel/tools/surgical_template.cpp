@@ -1,8 +1,9 @@
 // surgical-template: designs a surgical template from a case file (docs/CASE-FORMAT.md).
 //
 //   surgical-template design CASE.json [-o OUT.stl] [--report REPORT.json] [--simplify] [--tolerance MM]
-//                     [--plan PLAN] [--preset NAME] [--presets FILE]
-//   surgical-template plan PLAN [--bone MESH | --space LPS|RAS] [--preset NAME] [--presets FILE]
+//                     [--plan PLAN] [--preset NAME] [--blade NAME] [--slot-length MM] [--presets FILE]
+//   surgical-template plan PLAN [--bone MESH | --space LPS|RAS] [--preset NAME] [--blade NAME]
+//                     [--slot-length MM] [--presets FILE]
 //   surgical-template presets [--presets FILE]
 //   surgical-template union|difference|intersection A B -o OUT.stl
 //   surgical-template check MESH
@@ -45,13 +46,17 @@ constexpr const char* kUsage =
     "      --simplify: simplify the outer surface (about 5x fewer triangles, slower)\n"
     "      --tolerance: chordal tolerance of sleeves and bores in mm (default 0.01)\n"
     "      --operands DIR: also write the Boolean operands (body, columns, bores) there\n"
-    "      --plan PLAN: take the boundary and/or the drilling axes from a plan instead (3D Slicer markups\n"
-    "        .mrk.json, CSV of axes, or another case file), converted into the bone's frame\n"
+    "      --plan PLAN: take the boundary, drilling axes and/or cut planes from a plan instead (3D Slicer\n"
+    "        markups .mrk.json, CSV of axes or of planes, or another case file), converted into the bone's\n"
+    "        frame\n"
     "      --preset NAME: sleeve sizes for axes whose plan gives none (see `presets`)\n"
+    "      --blade NAME: the saw blade of slots whose plan gives none (see `presets`)\n"
+    "      --slot-length MM: the length of slots whose plan gives none\n"
     "      --presets FILE: a sleeve catalogue of your own (surgical-template-sleeves/1)\n"
-    "  surgical-template plan PLAN [--bone MESH | --space LPS|RAS] [--preset NAME] [--presets FILE]\n"
-    "      print a plan as case-file JSON (boundary, tubes) in the bone's frame (LPS unless the mesh\n"
-    "      header says SPACE=RAS), to check an import or paste into a case\n"
+    "  surgical-template plan PLAN [--bone MESH | --space LPS|RAS] [--preset NAME] [--blade NAME]\n"
+    "                    [--slot-length MM] [--presets FILE]\n"
+    "      print a plan as case-file JSON (boundary, tubes, slots) in the bone's frame (LPS unless the\n"
+    "      mesh header says SPACE=RAS), to check an import or paste into a case\n"
     "  surgical-template presets [--presets FILE]\n"
     "      list the sleeve catalogue\n"
     "  surgical-template union|difference|intersection A B -o OUT.stl\n"
@@ -81,7 +86,8 @@ double parse_length(const std::string& text, const std::string& what) {
 /// The plan options shared by `design` and `plan`.
 struct PlanOptions {
   std::vector<std::string> plans;
-  std::string preset, presets_file;
+  std::string preset, blade, presets_file;
+  std::optional<double> slot_length;
 
   /// Takes the option at argv[i] (and its value) if it is one of ours.
   bool parse(int argc, char** argv, int& i) {
@@ -89,6 +95,8 @@ struct PlanOptions {
     if (i + 1 >= argc) return false;
     if (a == "--plan") plans.push_back(argv[++i]);
     else if (a == "--preset") preset = argv[++i];
+    else if (a == "--blade") blade = argv[++i];
+    else if (a == "--slot-length") slot_length = parse_length(argv[++i], "--slot-length");
     else if (a == "--presets") presets_file = argv[++i];
     else return false;
     return true;
@@ -101,6 +109,17 @@ struct PlanOptions {
   std::optional<st::SleevePreset> sizes() const {
     if (preset.empty()) return std::nullopt;
     return st::find_sleeve_preset(catalogue(), preset);
+  }
+
+  std::vector<st::BladePreset> blades() const {
+    return presets_file.empty() ? st::default_blade_presets() : st::read_blade_presets(presets_file);
+  }
+
+  st::SlotSizes slot_sizes() const {
+    st::SlotSizes s;
+    if (!blade.empty()) s.blade = st::find_blade_preset(blades(), blade);
+    s.length = slot_length;
+    return s;
   }
 };
 
@@ -150,6 +169,31 @@ int plan(int argc, char** argv) {
     if (axis.depth) t["depth"] = *axis.depth;
     out["tubes"].push_back(t);
   }
+  const st::SlotSizes slot_sizes = options.slot_sizes();
+  for (const st::PlanPlane& plane : p.planes) {
+    nlohmann::json s = {
+        {"name", plane.name}, {"origin", point_json(plane.origin)}, {"normal", point_json(plane.normal)}};
+    if (plane.direction) s["direction"] = point_json(*plane.direction);
+    if ((plane.blade || slot_sizes.blade) && (plane.length || slot_sizes.length)) {
+      const st::SlotSpec slot = st::slot_from_plane(plane, slot_sizes); // the sizes filled and checked
+      s.update({{"blade", slot.blade},
+                {"clearance", slot.clearance},
+                {"length", slot.length},
+                {"height", slot.height},
+                {"wall", slot.wall}});
+    } else { // what the plan gives; --blade and --slot-length complete it
+      for (const auto& [key, value] :
+           {std::pair{"blade", plane.blade}, std::pair{"clearance", plane.clearance}, std::pair{"length", plane.length},
+            std::pair{"height", plane.height}, std::pair{"wall", plane.wall}})
+        if (value) s[key] = *value;
+    }
+    if (plane.closed) {
+      s["closed"] = nlohmann::json::array();
+      if ((*plane.closed)[0]) s["closed"].push_back("start");
+      if ((*plane.closed)[1]) s["closed"].push_back("end");
+    }
+    out["slots"].push_back(s);
+  }
   out["space"] = space == st::Space::RAS ? "RAS" : "LPS";
   for (const std::string& w : p.warnings) std::cerr << "warning: " << w << "\n";
   std::printf("%s\n", out.dump(2).c_str());
@@ -165,8 +209,7 @@ int presets(int argc, char** argv) {
   for (const st::SleevePreset& p : options.catalogue())
     std::printf("%-16s %8.2f %8.2f %8.2f %8.2f  %s\n", p.name.c_str(), 2 * p.inner_radius, 2 * p.outer_radius, p.length,
                 p.offset, p.description.c_str());
-  const std::vector<st::BladePreset> blades =
-      options.presets_file.empty() ? st::default_blade_presets() : st::read_blade_presets(options.presets_file);
+  const std::vector<st::BladePreset> blades = options.blades();
   if (!blades.empty()) {
     std::printf("\n%-16s %8s %8s %8s  %s\n", "blade", "thick", "gap", "slot", "description");
     for (const st::BladePreset& b : blades)
@@ -209,8 +252,8 @@ int design(int argc, char** argv) {
   const st::TriangleMesh bone = st::read_mesh(c.bone, &read_report);
   const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_read).count();
   for (const std::string& plan_path : plan_options.plans)
-    for (const std::string& w :
-         st::apply_plan(c, st::read_plan(plan_path, st::mesh_space(read_report.header)), plan_options.sizes()))
+    for (const std::string& w : st::apply_plan(c, st::read_plan(plan_path, st::mesh_space(read_report.header)),
+                                               plan_options.sizes(), st::PlanTubes::Replace, plan_options.slot_sizes()))
       std::cerr << "warning: " << w << "\n";
 
   st::TemplateOptions o = st::template_options(c);

@@ -143,4 +143,19 @@ result["presets"]["tube"] = [tube.InnerRadius.Value, tube.OuterRadius.Value, tub
                              tube.Preset]
 os.remove(mine)
 
+# 7. 3D Slicer cut planes onto a cutting guide: slots whose saw travels into the bone, blade and length chosen.
+flap = st.load_case(os.path.join(examples, "cases", "tibia-segment-flap.json"))
+flap.Slots = ""
+flap.Document.recompute()
+planes_path = os.path.join(examples, "plans", "tibia-flap-planes.mrk.json")
+attempt("no_blade", lambda: st.load_plan(planes_path, flap, slot_length=14), flap.Document)
+flap = st.load_plan(planes_path, flap, blade="sagittal-0.89", slot_length=14)
+attempt("taken", lambda: st.load_plan(planes_path, flap, blade=1.0, slot_length=14), flap.Document)
+slots = json.loads(flap.Slots)
+saved = os.path.join(out, "flap-planes.json")
+st.save_case(flap, saved)
+result["planes"] = {"solid": solid(flap, "flap-planes"), "status": flap.Status,
+                    "slots": [[sl["name"], sl.get("direction"), sl["blade"], sl["clearance"], sl["length"]] for sl in slots],
+                    "saved": [[sl["name"], sl["direction"]] for sl in k.read_case(saved)["slots"]]}
+
 print("RESULT " + json.dumps(result))

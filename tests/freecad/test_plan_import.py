@@ -50,6 +50,8 @@ def test_csv_axes_give_the_case_files_guide(run):
     ("bad_csv", ["bad.csv:3", "entry_y", "oops"]),
     ("bad_markups", ["bad.mrk.json", "markups[0] (Line)", "2 defined control points"]),
     ("bad_preset", ["no-such-sleeve", "pilot-2.0"]),
+    ("no_blade", ["tibia-flap-planes.mrk.json", "plane \"proximal plane\"", "no blade"]),
+    ("taken", ["plane \"proximal plane\"", "has a slot of that name"]),
 ])
 def test_bad_plans_change_nothing(run, tag, words):
     r = run[tag]
@@ -78,3 +80,13 @@ def test_user_catalogue_extends_the_projects(run):
 
 def test_a_failing_step_leaves_nothing_without_undo(run):
     assert run["failed_step_objects"] == []
+
+
+def test_slicer_cut_planes_become_slots_into_the_bone(run):
+    r = run["planes"]
+    assert valid(r["solid"]), r["status"]
+    assert [s[0] for s in r["slots"]] == ["proximal plane", "distal plane"]
+    for name, direction, blade, clearance, length in r["slots"]:
+        assert direction is None, name  # the saw's travel is the kernel's, into the bone
+        assert (blade, clearance, length) == pytest.approx((0.89, 0.1, 14.0)), name
+    assert [s[1] is None for s in r["saved"]] == [True, True]  # saved as planned: without a travel

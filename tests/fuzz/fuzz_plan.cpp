@@ -1,10 +1,11 @@
-// libFuzzer target: the plan readers (3D Slicer markups JSON, CSV of axes) and the sleeve catalogue
+// libFuzzer target: the plan readers (3D Slicer markups JSON, CSV of axes or planes) and the sleeve catalogue
 // on arbitrary text. The first byte picks the reader and the bone's frame. InvalidInput is the only
-// allowed way to refuse; what is read must be finite, axes unit, catalogue sleeves valid.
+// allowed way to refuse; what is read must be finite, axes and normals unit, catalogue sleeves valid.
 
 #include "st/core/errors.h"
 #include "st/io/plan.h"
 #include "st/guide/sleeve.h"
+#include "st/guide/slot.h"
 
 #include <cmath>
 #include <cstddef>
@@ -27,6 +28,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (const st::Vec3& p : plan.boundary_points)
       if (!p.allFinite()) std::abort();
     if (plan.inside && !plan.inside->allFinite()) std::abort();
+    st::SlotSizes sizes;
+    sizes.blade = st::default_blade_presets().front();
+    sizes.length = 10.0;
+    for (const st::PlanPlane& p : plan.planes) {
+      if (!p.origin.allFinite() || std::abs(p.normal.norm() - 1.0) > 1e-9) std::abort();
+      if (p.direction && std::abs(p.direction->norm() - 1.0) > 1e-9) std::abort();
+      try {
+        st::check_slot(st::slot_from_plane(p, sizes));
+      } catch (const st::InvalidInput& e) {
+        if (std::string(e.what()).rfind("slot '", 0) == 0) std::abort(); // check_slot refused an accepted plane
+      }
+    }
     for (const st::PlanAxis& a : plan.axes) {
       if (!a.entry.allFinite() || std::abs(a.direction.norm() - 1.0) > 1e-9) std::abort();
       try {

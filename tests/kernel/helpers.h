@@ -2,6 +2,7 @@
 // Fixtures built in code and assertion helpers for the kernel tests.
 
 #include "st/io/case_file.h"
+#include "st/core/errors.h"
 #ifdef ST_HAVE_OCCT
 #include "st/occt/occt_text.h"
 #endif
@@ -13,6 +14,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <numbers>
 #include <map>
@@ -118,6 +120,31 @@ inline TemplateOptions case_options(const CaseFile& c) {
 inline std::string output_dir() {
   std::filesystem::create_directories(ST_TEST_OUTPUT_DIR);
   return ST_TEST_OUTPUT_DIR;
+}
+
+/// A fresh folder of a test's own: <output>/<group>/<name>, emptied.
+inline std::filesystem::path scratch_dir(const std::string& group, const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::path(output_dir()) / group / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+/// Writes `text` to `path` as it is; returns the path.
+inline std::string write_text(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+  return path.string();
+}
+
+/// The message of the InvalidInput `f` throws (a failure when it throws none).
+template <class F> std::string invalid_input_of(F&& f) {
+  try {
+    f();
+  } catch (const InvalidInput& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no InvalidInput thrown";
+  return "";
 }
 
 /// How deep the deepest vertex of the flagged faces of `guide` lies behind the bone's surface (mm,

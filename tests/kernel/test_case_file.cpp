@@ -17,12 +17,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(st::test::output_dir()) / "case_file" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return st::test::scratch_dir("case_file", name); }
 
 std::string example_case(const std::string& name) {
   return (fs::path(st::test::examples_dir()) / "cases" / (name + ".json")).string();

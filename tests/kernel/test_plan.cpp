@@ -24,28 +24,11 @@ const std::string kSchema =
     R"("@schema": "https://raw.githubusercontent.com/slicer/slicer/master/Modules/Loadable/Markups/Resources/Schema/markups-schema-v1.0.3.json#")";
 
 /// A folder of its own for a test's files.
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(st::test::output_dir()) / "plan" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path scratch(const std::string& name) { return st::test::scratch_dir("plan", name); }
 
-std::string write(const fs::path& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
-  return path.string();
-}
+std::string write(const fs::path& path, const std::string& text) { return st::test::write_text(path, text); }
 
-/// The error message of `f`, which must throw InvalidInput.
-template <class F> std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InvalidInput& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no InvalidInput thrown";
-  return "";
-}
+template <class F> std::string error_of(F&& f) { return st::test::invalid_input_of(std::forward<F>(f)); }
 
 void expect_near(const Vec3& a, const Vec3& b, double tol = 1e-12) {
   EXPECT_LE((a - b).norm(), tol) << a.transpose() << " vs " << b.transpose();

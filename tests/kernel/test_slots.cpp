@@ -11,6 +11,7 @@
 #include "st/guide/slot.h"
 #include "st/io/case_file.h"
 #include "st/io/mesh_io.h"
+#include "st/io/plan.h"
 #include "st/guide/blade_path.h"
 
 #include <gtest/gtest.h>
@@ -181,6 +182,59 @@ TEST(Slots, TheFlapHarvestGuideHasOneSlotPerPlaneEachClosedOnOneSide) {
     EXPECT_TRUE(r.blade_paths[i].free) << c.slots[i].name;
     expect_slot_as_planned(r.shell, c.slots[i], r.slots[i]);
   }
+}
+
+TEST(Slots, PlanesFromASlicerPlanGiveSlotsWhoseSawTravelsIntoTheBone) {
+  // The flap example's planes as 3D Slicer saves them: no travel, blade and length chosen by the user.
+  CaseFile c = read_case(test::examples_dir() + "/cases/tibia-segment-flap.json");
+  const std::vector<SlotSpec> planned = c.slots;
+  SlotSizes sizes;
+  sizes.blade = find_blade_preset(default_blade_presets(), "sagittal-0.89");
+  sizes.length = 14.0;
+  apply_plan(c, read_plan(test::examples_dir() + "/plans/tibia-flap-planes.mrk.json", mesh_file_space(c.bone)),
+             std::nullopt, PlanTubes::Replace, sizes);
+  ASSERT_EQ(c.slots.size(), 2u);
+  const TriangleMesh bone = read_mesh(c.bone);
+  const TemplateResult r = design_template(bone, st::test::case_options(c));
+  test::expect_valid_solid(r.shell);
+  EXPECT_EQ(r.solid.components, 1u);
+  for (std::size_t i = 0; i < c.slots.size(); ++i) {
+    ASSERT_TRUE(c.slots[i].auto_direction);
+    const Vec3 d = r.slots[i].direction;
+    EXPECT_NEAR(d.norm(), 1.0, 1e-12);
+    EXPECT_LT(std::abs(d.dot(c.slots[i].normal)), 1e-12) << "the saw travels in the cut plane";
+    // Into the bone: within 30 degrees of the travel the example plans by hand, and the bone lies
+    // ahead of the origin along it.
+    EXPECT_GT(d.dot(planned[i].direction), std::cos(30.0 * std::numbers::pi / 180.0)) << c.slots[i].name;
+    EXPECT_TRUE(AabbTree(bone).first_hit(c.slots[i].origin - 5.0 * d, d, 0.0, 10.0)) << c.slots[i].name;
+    EXPECT_TRUE(r.blade_paths[i].free) << c.slots[i].name;
+    SlotSpec as_built = c.slots[i];
+    as_built.direction = d;
+    as_built.auto_direction = false;
+    expect_slot_as_planned(r.shell, as_built, r.slots[i]);
+  }
+}
+
+TEST(Slots, ASlotWithoutTravelIsRefusedByNameWhereTheBoneGivesNone) {
+  const TriangleMesh plate = test::make_height_field(-30, 30, -30, 30, 30, [](double, double) { return 0.0; });
+  const AabbTree tree(plate);
+  SlotSpec s = make_slot("flat", {0, 0, 0}, {0, 0, 1}, {1, 0, 0}, 0.89, 10);
+  s.auto_direction = true;
+  // The plane lies along the surface: no way into the bone within it.
+  try {
+    slot_direction(s, tree);
+    ADD_FAILURE() << "a plane along the surface was given a travel";
+  } catch (const GeometryError& e) {
+    EXPECT_NE(std::string(e.what()).find("slot 'flat'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("along the surface"), std::string::npos) << e.what();
+  }
+  // No bone near the origin.
+  s.origin = {0, 0, 50};
+  s.normal = {1, 0, 0};
+  EXPECT_THROW(slot_direction(s, tree), GeometryError);
+  // Across the plate: straight down into it.
+  s.origin = {0, 0, 0};
+  EXPECT_LT((slot_direction(s, tree) - Vec3(0, 0, -1)).norm(), 1e-9);
 }
 
 TEST(Slots, RandomSlotsOnRealTemplatesAreAsPlannedOrRefusedByName) {

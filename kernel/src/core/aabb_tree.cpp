@@ -74,6 +74,21 @@ Index AabbTree::build(std::vector<Item>& items, Index begin, Index end) {
   return id;
 }
 
+AabbTree::AreaNormal AabbTree::area_normal_near(const Vec3& p, double radius) const {
+  AreaNormal out;
+  BoundingBox box;
+  box.extend(p);
+  for_each_in_box(box.inflated(radius), [&](Index f) {
+    const Triangle& t = mesh_.triangles[f];
+    const Vec3 &a = mesh_.positions[t[0]], &b = mesh_.positions[t[1]], &c = mesh_.positions[t[2]];
+    if ((closest_point_on_triangle(p, a, b, c) - p).norm() > radius) return;
+    const Vec3 n = 0.5 * (b - a).cross(c - a);
+    out.sum += n;
+    out.area += n.norm();
+  });
+  return out;
+}
+
 std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_distance) const {
   if (nodes_.empty()) return std::nullopt;
   double best = max_distance * max_distance;

@@ -354,13 +354,16 @@ GuideResult add_tubes(const TriangleMesh& shell, std::size_t inner_faces, const 
 GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, const TriangleMesh& bone,
                         const GuideParts& parts, const GuideOptions& options) {
   std::vector<TubeSpec> tubes = parts.tubes;
-  const std::vector<SlotSpec>& slots = parts.slots;
-  // Pins planned by their entry only go into the bone there.
+  std::vector<SlotSpec> slots = parts.slots;
+  // Pins planned by their entry only go into the bone there; so do slots planned by their plane only.
   std::optional<AabbTree> all_bone;
-  direct_pins(tubes, [&]() -> const AabbTree& {
+  const auto whole_bone = [&]() -> const AabbTree& {
     if (!all_bone) all_bone.emplace(bone);
     return *all_bone;
-  });
+  };
+  direct_pins(tubes, whole_bone);
+  for (const SlotSpec& s : slots) check_slot(s); // before the bone is asked about its plane
+  direct_slots(slots, whole_bone);
   const auto t0 = Clock::now();
   if (!(options.chordal_tolerance > 0.0) || !(options.chordal_tolerance < 1.0))
     throw InvalidInput("chordal tolerance: must be in (0, 1) mm, got " + detail::number(options.chordal_tolerance));
@@ -370,7 +373,6 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
   result.from_tube.assign(shell.face_count(), 0);
   if (tubes.empty() && slots.empty() && parts.labels.empty()) return result;
   for (const TubeSpec& t : tubes) check_tube(t);
-  for (const SlotSpec& s : slots) check_slot(s);
   for (const LabelSpec& l : parts.labels) check_label(l);
 
   auto note = [&](const BooleanResult& r) {

@@ -130,19 +130,7 @@ TriangleMesh footed_cylinder_mesh(const Cylinder& c, double chordal_tolerance,
 }
 
 Vec3 pin_direction(const TubeSpec& tube, const AabbTree& bone, double radius) {
-  const TriangleMesh& mesh = bone.mesh();
-  Vec3 sum = Vec3::Zero();
-  double area = 0.0;
-  BoundingBox box;
-  box.extend(tube.entry);
-  bone.for_each_in_box(box.inflated(radius), [&](Index f) {
-    const Triangle& t = mesh.triangles[f];
-    const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
-    if ((closest_point_on_triangle(tube.entry, a, b, c) - tube.entry).norm() > radius) return;
-    const Vec3 n = 0.5 * (b - a).cross(c - a);
-    sum += n;
-    area += n.norm();
-  });
+  const auto [sum, area] = bone.area_normal_near(tube.entry, radius);
   const std::string name = "tube '" + tube.name + "'";
   if (!(area > 0.0))
     throw GeometryError(name + ": no direction is planned and no bone lies within " + detail::mm(radius) +

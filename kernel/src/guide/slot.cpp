@@ -16,11 +16,13 @@ std::optional<TubeProblem> slot_problem(const SlotSpec& s) {
   if (!s.origin.allFinite()) return Problem{"origin", "must be finite"};
   if (!s.normal.allFinite() || !(s.normal.norm() > 1e-12))
     return Problem{"normal", "must be a finite, non-zero vector"};
-  if (!s.direction.allFinite() || !(s.direction.norm() > 1e-12))
-    return Problem{"direction", "must be a finite, non-zero vector"};
-  const Vec3 n = s.normal.normalized(), d = s.direction.normalized();
-  if ((d - d.dot(n) * n).norm() < 1e-6)
-    return Problem{"direction", "must not be parallel to normal (the saw travels in the cut plane)"};
+  if (!s.auto_direction) {
+    if (!s.direction.allFinite() || !(s.direction.norm() > 1e-12))
+      return Problem{"direction", "must be a finite, non-zero vector"};
+    const Vec3 n = s.normal.normalized(), d = s.direction.normalized();
+    if ((d - d.dot(n) * n).norm() < 1e-6)
+      return Problem{"direction", "must not be parallel to normal (the saw travels in the cut plane)"};
+  }
   // The comparisons are written so that NaN fails each of them.
   if (!(s.blade > 0.0)) return Problem{"blade", "must be > 0"};
   if (!(s.clearance >= 0.0)) return Problem{"clearance", "must be >= 0"};
@@ -49,6 +51,31 @@ SlotFrame slot_frame(const SlotSpec& slot) {
   f.d = (d - d.dot(f.n) * f.n).normalized();
   f.e = f.n.cross(f.d);
   return f;
+}
+
+Vec3 slot_direction(const SlotSpec& slot, const AabbTree& bone) {
+  const double radius = kSlotDirectionRadius;
+  const auto [sum, area] = bone.area_normal_near(slot.origin, radius);
+  const std::string name = "slot '" + slot.name + "'";
+  if (!(area > 0.0))
+    throw GeometryError(name + ": no travel is planned and no bone lies within " + detail::mm(radius) +
+                        " of its origin " + detail::where(slot.origin) + "; give its direction");
+  const Vec3 n = slot.normal.normalized();
+  const Vec3 in_plane = sum - sum.dot(n) * n;
+  if (in_plane.norm() < 0.2 * area)
+    throw GeometryError(name + ": no travel is planned and the bone within " + detail::mm(radius) + " of its origin " +
+                        detail::where(slot.origin) +
+                        " does not face a way within the cut plane (the plane runs along the surface, or the "
+                        "bone there is an edge); give its direction");
+  return -in_plane.normalized();
+}
+
+void direct_slots(std::vector<SlotSpec>& slots, const std::function<const AabbTree&()>& bone_tree) {
+  for (SlotSpec& s : slots) {
+    if (!s.auto_direction) continue;
+    s.direction = slot_direction(s, bone_tree());
+    s.auto_direction = false;
+  }
 }
 
 TriangleMesh frame_box(const SlotFrame& frame, double half_width, double e0, double e1, double z0, double z1) {

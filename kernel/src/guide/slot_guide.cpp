@@ -29,6 +29,7 @@ SlotPlacement place_slot(const SlotSpec& slot, const TriangleMesh& shell, const 
   const SlotFrame f = slot_frame(slot);
   SlotPlacement p;
   p.name = slot.name;
+  p.direction = f.d;
   p.width = slot.width();
   p.housing_start = -0.5 * slot.length - (slot.closed_start ? slot.wall : 0.0);
   p.housing_end = 0.5 * slot.length + (slot.closed_end ? slot.wall : 0.0);

@@ -33,7 +33,8 @@ SlotSpec parse_slot(const detail::JsonReader& r, const json& s, std::size_t i, s
   slot.name = r.string(r.required(s, "name", key + ".name"), key + ".name");
   slot.origin = r.point(r.required(s, "origin", key + ".origin"), key + ".origin");
   slot.normal = r.point(r.required(s, "normal", key + ".normal"), key + ".normal");
-  slot.direction = r.point(r.required(s, "direction", key + ".direction"), key + ".direction");
+  if (s.contains("direction")) slot.direction = r.point(s["direction"], key + ".direction");
+  else slot.auto_direction = true; // into the bone in the plane (slot_direction), when designed
   slot.blade = r.number(r.required(s, "blade", key + ".blade"), key + ".blade");
   slot.length = r.number(r.required(s, "length", key + ".length"), key + ".length");
   if (s.contains("clearance")) slot.clearance = r.number(s["clearance"], key + ".clearance");
@@ -51,6 +52,10 @@ SlotSpec parse_slot(const detail::JsonReader& r, const json& s, std::size_t i, s
     }
   }
   if (const auto problem = slot_problem(slot)) r.fail(key + "." + problem->key, problem->reason);
+  if (slot.auto_direction) {
+    slot.normal.normalize();
+    return slot;
+  }
   const SlotFrame f = slot_frame(slot);
   slot.normal = f.n;
   slot.direction = f.d;
@@ -292,16 +297,12 @@ std::string case_json(const CaseFile& c, const std::string& path) {
     json closed = json::array();
     if (s.closed_start) closed.push_back("start");
     if (s.closed_end) closed.push_back("end");
-    doc["slots"].push_back({{"name", s.name},
-                            {"origin", point(s.origin)},
-                            {"normal", point(s.normal)},
-                            {"direction", point(s.direction)},
-                            {"blade", s.blade},
-                            {"clearance", s.clearance},
-                            {"length", s.length},
-                            {"height", s.height},
-                            {"wall", s.wall},
-                            {"closed", closed}});
+    json slot = {
+        {"name", s.name},           {"origin", point(s.origin)}, {"normal", point(s.normal)}, {"blade", s.blade},
+        {"clearance", s.clearance}, {"length", s.length},        {"height", s.height},        {"wall", s.wall},
+        {"closed", closed}};
+    if (!s.auto_direction) slot["direction"] = point(s.direction);
+    doc["slots"].push_back(slot);
   }
   if (!c.labels.empty()) doc["labels"] = json::array();
   for (const LabelSpec& l : c.labels)

@@ -1,4 +1,4 @@
-// CSV tables of drilling axes read into a Plan (st/io/plan.h).
+// CSV tables of drilling axes or of cut planes read into a Plan (st/io/plan.h).
 
 #include "st/io/plan.h"
 
@@ -89,10 +89,130 @@ double csv_number(const std::string& field, const std::string& where) {
   return v;
 }
 
-const std::vector<std::string> kCsvColumns = {
+const std::vector<std::string> kAxisColumns = {
     "name",           "entry_x",        "entry_y",  "entry_z",  "direction_x",  "direction_y",
     "direction_z",    "target_x",       "target_y", "target_z", "inner_radius", "outer_radius",
     "inner_diameter", "outer_diameter", "length",   "offset",   "depth"};
+
+const std::vector<std::string> kPlaneColumns = {
+    "name",        "origin_x",    "origin_y", "origin_z",  "normal_x", "normal_y", "normal_z", "direction_x",
+    "direction_y", "direction_z", "blade",    "clearance", "length",   "height",   "wall",     "closed"};
+
+using Columns = std::map<std::string, std::size_t>;
+
+/// Checks the columns of a table of axes (`planes` false) or of planes: the required ones present,
+/// vectors whole, one of each pair. Throws InvalidInput at `where` (the header line).
+void check_columns(const Columns& column, bool planes, const std::string& where) {
+  const auto has = [&](const char* c) { return column.count(c) > 0; };
+  const auto need = [&](std::initializer_list<const char*> names) {
+    for (const char* c : names)
+      if (!has(c)) throw InvalidInput(where + ": no column \"" + std::string(c) + "\"");
+  };
+  const bool direction = has("direction_x") || has("direction_y") || has("direction_z");
+  if (planes) {
+    need({"origin_x", "origin_y", "origin_z", "normal_x", "normal_y", "normal_z"});
+    if (direction) need({"direction_x", "direction_y", "direction_z"});
+    return;
+  }
+  need({"entry_x", "entry_y", "entry_z"});
+  const bool target_point = has("target_x") || has("target_y") || has("target_z");
+  if (direction == target_point)
+    throw InvalidInput(where + ": give either direction_x/_y/_z or target_x/_y/_z columns (one of them)");
+  if (direction) need({"direction_x", "direction_y", "direction_z"});
+  else need({"target_x", "target_y", "target_z"});
+  if (has("inner_radius") && has("inner_diameter"))
+    throw InvalidInput(where + ": give inner_radius or inner_diameter, not both");
+  if (has("outer_radius") && has("outer_diameter"))
+    throw InvalidInput(where + ": give outer_radius or outer_diameter, not both");
+}
+
+/// One line's fields by column, as numbers and vectors in the plan's frame.
+struct Row {
+  const std::vector<std::string>& fields;
+  const Columns& column;
+  const std::string& where;
+  Space from, target;
+
+  [[nodiscard]] bool given(const char* c) const { return column.count(c) && !fields[column.at(c)].empty(); }
+  [[nodiscard]] const std::string& text(const char* c) const { return fields[column.at(c)]; }
+  [[nodiscard]] double number(const char* c) const { return csv_number(text(c), where + ": " + c); }
+  [[nodiscard]] Vec3 vec(const char* x, const char* y, const char* z) const {
+    return convert_space(Vec3(number(x), number(y), number(z)), from, target);
+  }
+  [[nodiscard]] Vec3 unit(const char* x, const char* y, const char* z, const char* what) const {
+    const Vec3 d = vec(x, y, z);
+    const double n = d.stableNorm();
+    if (!(n > 1e-12) || !std::isfinite(n)) throw InvalidInput(where + ": the " + what + " must be a non-zero vector");
+    return d / n;
+  }
+  [[nodiscard]] std::optional<double> optional(const char* c, double scale = 1.0) const {
+    if (!given(c)) return std::nullopt;
+    return number(c) * scale;
+  }
+};
+
+PlanAxis axis_row(const Row& row, std::size_t index) {
+  PlanAxis axis;
+  axis.source = row.where;
+  axis.name = row.given("name") ? row.text("name") : std::to_string(index + 1);
+  axis.entry = row.vec("entry_x", "entry_y", "entry_z");
+  if (row.column.count("direction_x")) {
+    axis.direction = row.unit("direction_x", "direction_y", "direction_z", "direction");
+  } else {
+    const Vec3 along = row.vec("target_x", "target_y", "target_z") - axis.entry;
+    const double n = along.norm();
+    if (!(n > 1e-9) || !std::isfinite(n))
+      throw InvalidInput(row.where + ": the target must differ from the entry (it gives the direction)");
+    axis.direction = along / n;
+    axis.depth = n;
+  }
+  axis.inner_radius =
+      row.column.count("inner_diameter") ? row.optional("inner_diameter", 0.5) : row.optional("inner_radius");
+  axis.outer_radius =
+      row.column.count("outer_diameter") ? row.optional("outer_diameter", 0.5) : row.optional("outer_radius");
+  axis.length = row.optional("length");
+  axis.offset = row.optional("offset");
+  if (const auto depth = row.optional("depth")) axis.depth = depth;
+  return axis;
+}
+
+/// Which ends of a slot are closed, from a CSV field: "both", "none", "start", "end", or "start" and
+/// "end" separated by blanks, '+' or '/'.
+std::array<bool, 2> closed_ends(const std::string& field, const std::string& where) {
+  const std::string s = lower(trim(field));
+  if (s == "both") return {true, true};
+  if (s == "none") return {false, false};
+  std::array<bool, 2> closed{false, false};
+  std::size_t at = 0;
+  while (at < s.size()) {
+    const std::size_t stop = std::min(s.find_first_of(" +/", at), s.size());
+    const std::string word = s.substr(at, stop - at);
+    if (word == "start") closed[0] = true;
+    else if (word == "end") closed[1] = true;
+    else if (!word.empty())
+      throw InvalidInput(where + ": \"" + field + "\" must be both, none, start, end or \"start end\"");
+    at = stop + 1;
+  }
+  return closed;
+}
+
+PlanPlane plane_row(const Row& row, std::size_t index) {
+  PlanPlane plane;
+  plane.source = row.where;
+  plane.name = row.given("name") ? row.text("name") : "cut " + std::to_string(index + 1);
+  plane.origin = row.vec("origin_x", "origin_y", "origin_z");
+  plane.normal = row.unit("normal_x", "normal_y", "normal_z", "normal");
+  if (row.column.count("direction_x") &&
+      (row.given("direction_x") || row.given("direction_y") || row.given("direction_z")))
+    plane.direction = row.unit("direction_x", "direction_y", "direction_z", "direction");
+  plane.blade = row.optional("blade");
+  plane.clearance = row.optional("clearance");
+  plane.length = row.optional("length");
+  plane.height = row.optional("height");
+  plane.wall = row.optional("wall");
+  if (row.given("closed")) plane.closed = closed_ends(row.text("closed"), row.where + ": closed");
+  return plane;
+}
 
 } // namespace
 
@@ -103,7 +223,8 @@ Plan parse_plan_csv(const std::string& text, const std::string& path, Space targ
   std::optional<Space> file_space;
   std::vector<std::string> header; // column keys
   char delimiter = ',';
-  std::map<std::string, std::size_t> column;
+  Columns column;
+  bool planes = false; // a table of cut planes (it has normal_x), else of drilling axes
   std::size_t line_number = 0, begin = 0;
   if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) begin = 3; // UTF-8 byte order mark
   while (begin <= text.size()) {
@@ -140,71 +261,32 @@ Plan parse_plan_csv(const std::string& text, const std::string& path, Space targ
                                    "separated by commas, semicolons or tabs");
       delimiter = tabs >= commas && tabs >= semicolons ? '\t' : semicolons > commas ? ';' : ',';
       for (const std::string& f : split_fields(line, delimiter, where)) header.push_back(column_key(f, where));
+      planes = std::find(header.begin(), header.end(), "normal_x") != header.end();
+      const std::vector<std::string>& known = planes ? kPlaneColumns : kAxisColumns;
       for (std::size_t i = 0; i < header.size(); ++i) {
-        if (std::find(kCsvColumns.begin(), kCsvColumns.end(), header[i]) == kCsvColumns.end()) {
-          plan.warnings.push_back(where + ": unknown column \"" + header[i] + "\" ignored");
+        if (std::find(known.begin(), known.end(), header[i]) == known.end()) {
+          plan.warnings.push_back(where + ": unknown column \"" + header[i] + "\" ignored" +
+                                  (planes ? " (a table of planes: it has normal_x)" : ""));
           continue;
         }
         if (column.count(header[i])) throw InvalidInput(where + ": column \"" + header[i] + "\" appears twice");
         column[header[i]] = i;
       }
-      const auto has = [&](const char* c) { return column.count(c) > 0; };
-      for (const char* c : {"entry_x", "entry_y", "entry_z"})
-        if (!has(c)) throw InvalidInput(where + ": no column \"" + std::string(c) + "\"");
-      const bool direction = has("direction_x") || has("direction_y") || has("direction_z");
-      const bool target_point = has("target_x") || has("target_y") || has("target_z");
-      if (direction == target_point)
-        throw InvalidInput(where + ": give either direction_x/_y/_z or target_x/_y/_z columns (one of them)");
-      static const std::array<const char*, 3> kDirection = {"direction_x", "direction_y", "direction_z"};
-      static const std::array<const char*, 3> kTarget = {"target_x", "target_y", "target_z"};
-      for (const char* c : direction ? kDirection : kTarget)
-        if (!has(c)) throw InvalidInput(where + ": no column \"" + std::string(c) + "\"");
-      if (has("inner_radius") && has("inner_diameter"))
-        throw InvalidInput(where + ": give inner_radius or inner_diameter, not both");
-      if (has("outer_radius") && has("outer_diameter"))
-        throw InvalidInput(where + ": give outer_radius or outer_diameter, not both");
+      check_columns(column, planes, where);
       continue;
     }
     const std::vector<std::string> fields = split_fields(line, delimiter, where);
     if (fields.size() != header.size())
       throw InvalidInput(where + ": has " + std::to_string(fields.size()) + " fields, the header names " +
                          std::to_string(header.size()));
-    const auto field = [&](const char* c) -> const std::string& { return fields[column.at(c)]; };
-    const auto number = [&](const char* c) { return csv_number(field(c), where + ": " + c); };
-    const auto vec = [&](const char* x, const char* y, const char* z) { return Vec3(number(x), number(y), number(z)); };
-    const auto optional = [&](const char* c, double scale) -> std::optional<double> {
-      if (!column.count(c) || field(c).empty()) return std::nullopt;
-      return number(c) * scale;
-    };
-    const Space from = file_space.value_or(target);
-    PlanAxis axis;
-    axis.source = where;
-    axis.name = column.count("name") && !field("name").empty() ? field("name") : std::to_string(plan.axes.size() + 1);
-    axis.entry = convert_space(vec("entry_x", "entry_y", "entry_z"), from, target);
-    if (column.count("direction_x")) {
-      const Vec3 d = convert_space(vec("direction_x", "direction_y", "direction_z"), from, target);
-      const double n = d.stableNorm();
-      if (!(n > 1e-12) || !std::isfinite(n)) throw InvalidInput(where + ": the direction must be a non-zero vector");
-      axis.direction = d / n;
-    } else {
-      const Vec3 along = convert_space(vec("target_x", "target_y", "target_z"), from, target) - axis.entry;
-      const double n = along.norm();
-      if (!(n > 1e-9) || !std::isfinite(n))
-        throw InvalidInput(where + ": the target must differ from the entry (it gives the direction)");
-      axis.direction = along / n;
-      axis.depth = n;
-    }
-    axis.inner_radius =
-        column.count("inner_diameter") ? optional("inner_diameter", 0.5) : optional("inner_radius", 1.0);
-    axis.outer_radius =
-        column.count("outer_diameter") ? optional("outer_diameter", 0.5) : optional("outer_radius", 1.0);
-    axis.length = optional("length", 1.0);
-    axis.offset = optional("offset", 1.0);
-    if (const auto depth = optional("depth", 1.0)) axis.depth = depth;
-    plan.axes.push_back(std::move(axis));
+    const Row row{fields, column, where, file_space.value_or(target), target};
+    if (planes) plan.planes.push_back(plane_row(row, plan.planes.size()));
+    else plan.axes.push_back(axis_row(row, plan.axes.size()));
   }
-  if (header.empty()) throw InvalidInput(path + ": empty: a CSV plan needs a header line and one line per axis");
-  if (plan.axes.empty()) throw InvalidInput(path + ": names its columns but holds no axes");
+  if (header.empty())
+    throw InvalidInput(path + ": empty: a CSV plan needs a header line and one line per axis or plane");
+  if (plan.axes.empty() && plan.planes.empty())
+    throw InvalidInput(path + ": names its columns but holds no " + (planes ? "planes" : "axes"));
   return plan;
 }
 

@@ -86,6 +86,38 @@ std::vector<ControlPoint> control_points(const detail::JsonReader& r, const json
   return out;
 }
 
+/// A cut plane from a Plane markup: "center" and "normal" as Slicer 5 writes them, else the first
+/// control point with the normal of "orientation" (its third column), else of the first three points.
+PlanPlane plane_markup(const detail::JsonReader& r, const json& m, const std::string& what,
+                       const std::vector<ControlPoint>& points, Space target) {
+  const Space space = markup_space(r, m, what);
+  const double scale = markup_scale(r, m, what);
+  PlanPlane plane;
+  Vec3 normal = Vec3::Zero();
+  if (m.contains("center") && m.contains("normal")) {
+    plane.origin = convert_space(r.point(m["center"], what + ".center") * scale, space, target);
+    normal = convert_space(r.point(m["normal"], what + ".normal"), space, target);
+  } else if (!points.empty() && m.contains("orientation")) {
+    const json& o = m["orientation"];
+    if (!o.is_array() || o.size() != 9) r.fail(what + ".orientation", "must hold 9 numbers (a 3 x 3 matrix)");
+    Vec3 z;
+    for (int i = 0; i < 3; ++i) z[i] = r.number(o[static_cast<std::size_t>(3 * i + 2)], what + ".orientation");
+    plane.origin = points[0].position;
+    normal = convert_space(z, space, target);
+  } else if (points.size() >= 3) {
+    plane.origin = points[0].position;
+    normal = (points[1].position - points[0].position).cross(points[2].position - points[0].position);
+  } else {
+    r.fail(what, "a plane needs \"center\" and \"normal\", or a control point and \"orientation\", or 3 "
+                 "control points");
+  }
+  const double length = normal.norm();
+  if (!(length > 1e-12) || !std::isfinite(length)) r.fail(what, "its normal is zero or not finite: no plane");
+  if (!plane.origin.allFinite()) r.fail(what, "its centre is not finite");
+  plane.normal = normal / length;
+  return plane;
+}
+
 std::vector<Vec3> positions(const std::vector<ControlPoint>& points) {
   std::vector<Vec3> out;
   for (const ControlPoint& p : points) out.push_back(p.position);
@@ -140,6 +172,11 @@ Plan parse_markups(const std::string& text, const std::string& path, Space targe
                                              : "Line " + std::to_string(plan.axes.size() + 1);
       axis.source = path + ": " + key;
       plan.axes.push_back(std::move(axis));
+    } else if (type == "Plane") {
+      PlanPlane plane = plane_markup(r, m, key, points, target);
+      plane.name = !name.empty() ? name : "Plane " + std::to_string(plan.planes.size() + 1);
+      plane.source = path + ": " + key;
+      plan.planes.push_back(std::move(plane));
     } else if (type == "Fiducial") {
       if (points.size() == 1) {
         if (plan.inside) plan.warnings.push_back(path + ": " + what + ": a second inside point, ignored");
@@ -155,8 +192,8 @@ Plan parse_markups(const std::string& text, const std::string& path, Space targe
     }
   }
   if (!closed_curve && !point_list_boundary.empty()) plan.boundary_points = std::move(point_list_boundary);
-  if (plan.boundary_points.empty() && plan.axes.empty())
-    r.fail("markups", "holds no ClosedCurve, point list or Line: nothing to plan with");
+  if (plan.boundary_points.empty() && plan.axes.empty() && plan.planes.empty())
+    r.fail("markups", "holds no ClosedCurve, point list, Line or Plane: nothing to plan with");
   return plan;
 }
 

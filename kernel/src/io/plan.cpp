@@ -85,6 +85,21 @@ Plan plan_of_case(const CaseFile& c) {
     a.offset = t.offset;
     plan.axes.push_back(std::move(a));
   }
+  for (const SlotSpec& s : c.slots) {
+    PlanPlane p;
+    p.name = s.name;
+    p.source = c.path + ": slot " + s.name;
+    p.origin = s.origin;
+    p.normal = s.normal;
+    if (!s.auto_direction) p.direction = s.direction;
+    p.blade = s.blade;
+    p.clearance = s.clearance;
+    p.length = s.length;
+    p.height = s.height;
+    p.wall = s.wall;
+    p.closed = std::array<bool, 2>{s.closed_start, s.closed_end};
+    plan.planes.push_back(std::move(p));
+  }
   return plan;
 }
 
@@ -128,10 +143,44 @@ TubeSpec tube_from_axis(const PlanAxis& axis, const std::optional<SleevePreset>&
   return t;
 }
 
+SlotSpec slot_from_plane(const PlanPlane& plane, const SlotSizes& sizes) {
+  SlotSpec s;
+  s.name = plane.name;
+  s.origin = plane.origin;
+  s.normal = plane.normal;
+  if (plane.direction) s.direction = *plane.direction;
+  else s.auto_direction = true;
+  const std::string what = plane.source + ": plane \"" + plane.name + "\": ";
+  if (plane.blade) s.blade = *plane.blade;
+  else if (sizes.blade) s.blade = sizes.blade->thickness;
+  else throw InvalidInput(what + "the plan gives no blade thickness; choose a blade");
+  if (plane.clearance) s.clearance = *plane.clearance;
+  else if (sizes.blade && !plane.blade) s.clearance = sizes.blade->clearance;
+  if (plane.length) s.length = *plane.length;
+  else if (sizes.length) s.length = *sizes.length;
+  else throw InvalidInput(what + "the plan gives no slot length; give one");
+  if (plane.height) s.height = *plane.height;
+  if (plane.wall) s.wall = *plane.wall;
+  if (plane.closed) {
+    s.closed_start = (*plane.closed)[0];
+    s.closed_end = (*plane.closed)[1];
+  }
+  if (const auto problem = slot_problem(s)) throw InvalidInput(what + problem->key + " " + problem->reason);
+  return s;
+}
+
 std::vector<std::string> apply_plan(CaseFile& c, const Plan& plan, const std::optional<SleevePreset>& sizes,
-                                    PlanTubes tubes) {
+                                    PlanTubes tubes, const SlotSizes& slot_sizes) {
   std::vector<TubeSpec> planned;
   for (const PlanAxis& axis : plan.axes) planned.push_back(tube_from_axis(axis, sizes)); // may throw: first
+  std::vector<SlotSpec> cuts;
+  for (const PlanPlane& plane : plan.planes) {
+    const auto named = [&](const SlotSpec& o) { return o.name == plane.name; };
+    if (std::any_of(cuts.begin(), cuts.end(), named) ||
+        (tubes == PlanTubes::Add && std::any_of(c.slots.begin(), c.slots.end(), named)))
+      throw InvalidInput(plane.source + ": plane \"" + plane.name + "\": a slot of that name is planned already");
+    cuts.push_back(slot_from_plane(plane, slot_sizes));
+  }
   std::vector<std::string> warnings = plan.warnings;
   if (!plan.boundary_points.empty()) {
     if (c.inside && !plan.inside)
@@ -145,6 +194,10 @@ std::vector<std::string> apply_plan(CaseFile& c, const Plan& plan, const std::op
   if (!planned.empty()) {
     if (tubes == PlanTubes::Replace) c.tubes.clear();
     c.tubes.insert(c.tubes.end(), planned.begin(), planned.end());
+  }
+  if (!cuts.empty()) {
+    if (tubes == PlanTubes::Replace) c.slots.clear();
+    c.slots.insert(c.slots.end(), cuts.begin(), cuts.end());
   }
   return warnings;
 }

@@ -44,6 +44,7 @@ nlohmann::json to_json(const TubePlacement& p) {
 
 nlohmann::json to_json(const SlotPlacement& p) {
   return {{"name", p.name},
+          {"direction", xyz(p.direction)},
           {"width", p.width},
           {"template_top", p.template_top},
           {"housing", {p.housing_bottom, p.housing_top}},

@@ -10,12 +10,17 @@ def sleeve_presets():
     """The sleeve catalogue: the project's (data/sleeve-presets.json) and the user's own file
     <FreeCAD user data>/SurgicalTemplate/sleeve-presets.json, whose sleeves add to it or replace
     those of the same name. Each: {name, description, inner_radius, outer_radius, length, offset} (mm)."""
-    k = st_bridge.kernel()
-    presets = {p["name"]: p for p in k.sleeve_presets()}
+    return _catalogue(st_bridge.kernel().sleeve_presets)
+
+
+def _catalogue(read):
+    """The project's entries of one section (read() lists them) and the user's file's (read(path)), which
+    add to them or replace those of the same name."""
+    entries = {e["name"]: e for e in read()}
     mine = user_presets_path()
     if os.path.exists(mine):
-        presets.update({p["name"]: p for p in k.sleeve_presets(mine)})
-    return list(presets.values())
+        entries.update({e["name"]: e for e in read(mine)})
+    return list(entries.values())
 
 
 def user_presets_path():
@@ -27,3 +32,24 @@ def preset(name_or_sizes):
     if isinstance(name_or_sizes, dict):
         return name_or_sizes
     return st_bridge.kernel().find_sleeve_preset(sleeve_presets(), str(name_or_sizes))
+
+
+def blade_presets():
+    """The saw blades of the catalogue: the project's and those of the user's own file (as sleeve_presets).
+    Each: {name, description, thickness, clearance} (mm)."""
+    return _catalogue(st_bridge.kernel().blade_presets)
+
+
+def blade(name_or_thickness):
+    """A blade: a dict as it is, a thickness in mm (clearance 0.1), or the catalogue's blade of that name
+    (case ignored); ValueError listing the names when there is none."""
+    if isinstance(name_or_thickness, dict):
+        return name_or_thickness
+    if isinstance(name_or_thickness, (int, float)):
+        return {"name": f"{float(name_or_thickness):g} mm", "thickness": float(name_or_thickness), "clearance": 0.1}
+    name = str(name_or_thickness)
+    blades = blade_presets()
+    for b in blades:
+        if b["name"] == name or b["name"].lower() == name.lower():
+            return b
+    raise ValueError(f"no saw blade '{name}' in the catalogue; there are: {', '.join(b['name'] for b in blades)}")

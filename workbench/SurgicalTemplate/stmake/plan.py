@@ -1,4 +1,4 @@
-"""Plans from planning software onto the document: 3D Slicer markups, CSV of axes, case files."""
+"""Plans from planning software onto the document: 3D Slicer markups, CSV of axes or planes, case files."""
 import FreeCAD as App
 
 import st_bridge
@@ -8,16 +8,19 @@ from stmake.case import load_case
 from stmake.objects import make_boundary, make_guide, make_template, make_tube, vectors
 from stmake.step import Step
 from stobjects.base import kind_of
+from stobjects.guide import Guide
 
 
-def load_plan(path, target=None, preset=None, thickness=None):
+def load_plan(path, target=None, preset=None, thickness=None, blade=None, slot_length=None):
     """Imports a plan into the document: a case file builds its whole tree (as load_case); a 3D Slicer
-    markups file (.mrk.json) or a CSV of axes goes onto `target` (a guide, template, boundary or bone;
-    default: the active document's guide or bone), converted into the bone's CoordinateSystem. The
-    plan's boundary replaces the boundary's points (or, on a bare bone, makes a boundary and a
+    markups file (.mrk.json) or a CSV of axes or planes goes onto `target` (a guide, template, boundary
+    or bone; default: the active document's guide or bone), converted into the bone's CoordinateSystem.
+    The plan's boundary replaces the boundary's points (or, on a bare bone, makes a boundary and a
     template of `thickness`); its axes become tubes added to the guide (made when missing), with sizes
-    the plan lacks from `preset`. One undo step; returns the guide (or the boundary when there are no
-    axes and no template)."""
+    the plan lacks from `preset`; its cut planes become saw slots added to the guide, with the blade
+    (a catalogue name, a thickness in mm or a blade dict) and `slot_length` (mm) the plan lacks, the
+    saw travelling into the bone in each plane. One undo step; returns the guide (or the boundary when
+    there are no axes, no planes and no template)."""
     k = st_bridge.kernel()
     doc = target.Document if target is not None else App.ActiveDocument
     if target is None and doc is not None:
@@ -42,13 +45,20 @@ def load_plan(path, target=None, preset=None, thickness=None):
     # checked before any change; the plan's axes come back as tubes to add.
     case = {"boundary_points": [st_bridge.vec(p) for p in boundary.Points] if boundary is not None else None,
             "inside": st_bridge.vec(boundary.Inside) if boundary is not None and boundary.UseInside else None}
-    new, warnings = k.apply_plan(case, path, getattr(bone, "CoordinateSystem", "LPS"), sizes, add_tubes=True)
+    blade_sizes = presets.blade(blade) if blade is not None else None
+    new, warnings = k.apply_plan(case, path, getattr(bone, "CoordinateSystem", "LPS"), sizes, add_tubes=True,
+                                 blade=blade_sizes, slot_length=slot_length)
     for w in warnings:
         App.Console.PrintWarning(f"Surgical Template: {w}\n")
-    tubes = new["tubes"]
-    if tubes and boundary is None and plan["boundary_points"] is None:
-        raise ValueError(f"{path}: the plan has drilling axes but {bone.Label} has no boundary to put the "
-                         "template on; import or draw a boundary first")
+    tubes, slots = new["tubes"], new["slots"]
+    if (tubes or slots) and boundary is None and plan["boundary_points"] is None:
+        raise ValueError(f"{path}: the plan has drilling axes or cut planes but {bone.Label} has no boundary to "
+                         "put the template on; import or draw a boundary first")
+    if slots and guide is not None:
+        taken = {s.get("name") for s in Guide.slots_of(guide)}
+        for s in slots:
+            if s["name"] in taken:
+                raise ValueError(f"{path}: plane \"{s['name']}\": {guide.Label} has a slot of that name already")
     with Step(doc, "Import plan"):
         if plan["boundary_points"] is not None:
             if boundary is None:
@@ -63,10 +73,11 @@ def load_plan(path, target=None, preset=None, thickness=None):
             shell = make_template(boundary, thickness or 2.5)
         added = [make_tube(t["entry"], t["direction"], t["inner_radius"], t["outer_radius"], t["length"],
                            t["offset"], name=t["name"], doc=doc, depth=t["depth"], preset=sizes) for t in tubes]
-        if added:
+        if added or slots:
             if guide is None:
-                guide = make_guide(shell, added)
+                guide = make_guide(shell, added, slots=slots)
             else:
                 guide.Tubes = guide.Tubes + added
+                guide.Slots = Guide.list_text(Guide.slots_of(guide) + slots)
     doc.recompute()
     return guide or shell or boundary

@@ -56,6 +56,14 @@ public:
   /// Calls visit(fa, fb) for every triangle fa of this tree and fb of `other` whose boxes overlap.
   void for_each_overlapping_pair(const AabbTree& other, const std::function<void(Index, Index)>& visit) const;
 
+  /// The area-weighted normal of the surface within `radius` of `p`: the sum of the (area-scaled,
+  /// outward) normals of the triangles that come within `radius`, and their total area.
+  struct AreaNormal {
+    Vec3 sum = Vec3::Zero();
+    double area = 0.0;
+  };
+  [[nodiscard]] AreaNormal area_normal_near(const Vec3& p, double radius) const;
+
 private:
   struct Node {
     BoundingBox box;

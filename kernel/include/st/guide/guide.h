@@ -65,16 +65,17 @@ struct TubePlacement {
 /// What was decided for one saw slot; heights z along its frame's up from the origin (slot.h).
 struct SlotPlacement {
   std::string name;
-  double width = 0.0;          ///< blade + 2 x clearance
-  double template_top = 0.0;   ///< highest point of the template's outer surface under the housing
-  double housing_top = 0.0;    ///< template_top + height
-  double housing_bottom = 0.0; ///< the housing's foot before it is raised over the bone (in the template wall)
-  double foot_lift = 0.0;      ///< the housing's foot stays this far above bone + clearance
-  double cut_bottom = 0.0;     ///< the slot is cut from here (past the template's inner surface)...
-  double cut_top = 0.0;        ///< ...to here (past the housing's top)
-  double slot_start = 0.0;     ///< the slot's extent along e: closed ends at -length / 2, +length / 2,
-  double slot_end = 0.0;       ///< open ones past the housing's end
-  double housing_start = 0.0;  ///< the housing's extent along e (a wall beyond each closed end)
+  Vec3 direction = Vec3::UnitZ(); ///< the saw's travel as built (planned, or slot_direction)
+  double width = 0.0;             ///< blade + 2 x clearance
+  double template_top = 0.0;      ///< highest point of the template's outer surface under the housing
+  double housing_top = 0.0;       ///< template_top + height
+  double housing_bottom = 0.0;    ///< the housing's foot before it is raised over the bone (in the template wall)
+  double foot_lift = 0.0;         ///< the housing's foot stays this far above bone + clearance
+  double cut_bottom = 0.0;        ///< the slot is cut from here (past the template's inner surface)...
+  double cut_top = 0.0;           ///< ...to here (past the housing's top)
+  double slot_start = 0.0;        ///< the slot's extent along e: closed ends at -length / 2, +length / 2,
+  double slot_end = 0.0;          ///< open ones past the housing's end
+  double housing_start = 0.0;     ///< the housing's extent along e (a wall beyond each closed end)
   double housing_end = 0.0;
   std::vector<std::string> meets; ///< the tubes ("tube 't1'") and slots whose guide material it cuts or meets
 };

@@ -11,9 +11,11 @@
 // housing is the slab widened by `wall` on both sides and, at each closed end, beyond it, standing
 // `height` over the template's outer surface.
 
+#include "st/core/aabb_tree.h"
 #include "st/core/mesh.h"
 #include "st/guide/tube.h"
 
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -24,13 +26,16 @@ struct SlotSpec {
   Vec3 origin = Vec3::Zero();
   Vec3 normal = Vec3::UnitX();    ///< the cut plane's normal (unit after check_slot / slot_frame)
   Vec3 direction = Vec3::UnitZ(); ///< the saw's travel direction, into the bone
-  double blade = 0.0;             ///< blade thickness
-  double clearance = 0.1;         ///< gap on each side of the blade
-  double length = 0.0;            ///< the slot's extent across `direction`, centred on `origin`
-  double height = 5.0;            ///< the housing's height over the template's outer surface
-  double wall = 3.0;              ///< the housing's wall on each side of the slot
-  bool closed_start = true;       ///< the housing closes the slot's end at -length / 2 (along -e)
-  bool closed_end = true;         ///< the housing closes the slot's end at +length / 2 (along +e)
+  /// No travel was planned (a plane from a plan): design_template and build_guide set `direction`
+  /// into the bone from the origin (slot_direction) before anything is built.
+  bool auto_direction = false;
+  double blade = 0.0;       ///< blade thickness
+  double clearance = 0.1;   ///< gap on each side of the blade
+  double length = 0.0;      ///< the slot's extent across `direction`, centred on `origin`
+  double height = 5.0;      ///< the housing's height over the template's outer surface
+  double wall = 3.0;        ///< the housing's wall on each side of the slot
+  bool closed_start = true; ///< the housing closes the slot's end at -length / 2 (along -e)
+  bool closed_end = true;   ///< the housing closes the slot's end at +length / 2 (along +e)
 
   [[nodiscard]] double width() const { return blade + 2.0 * clearance; }
 };
@@ -51,13 +56,25 @@ struct SlotFrame {
 /// The first rule a slot's numbers break (see check_slot), as the key relative to the slot and why.
 std::optional<TubeProblem> slot_problem(const SlotSpec& slot);
 
-/// Checks a slot's numbers: origin finite; normal and direction finite, non-zero and not parallel;
+/// Checks a slot's numbers: origin finite; normal and (unless auto_direction) direction finite, non-zero
+/// and not parallel;
 /// blade > 0, clearance >= 0, length > 0, height > 0, wall > 0, all finite and under the limits of
 /// st/core/tolerances.h. Throws InvalidInput "slot '<name>': <key> <reason>".
 void check_slot(const SlotSpec& slot);
 
 /// The frame of a checked slot (n normalised; d's component along n removed, then normalised).
 SlotFrame slot_frame(const SlotSpec& slot);
+
+/// The travel of a slot planned without one: in the cut plane, into the bone against the area-weighted
+/// outward normal of the bone within kSlotDirectionRadius of the origin, projected onto the plane.
+/// Throws GeometryError naming the slot when no bone lies there or the plane runs along the surface
+/// (the projection is under a fifth of the normal: no way into the bone in the plane).
+inline constexpr double kSlotDirectionRadius = 3.0; // mm
+Vec3 slot_direction(const SlotSpec& slot, const AabbTree& bone);
+
+/// Gives each slot planned without a travel (auto_direction) its slot_direction; `bone_tree` is
+/// asked for the bone's tree only when one is needed. Throws as slot_direction.
+void direct_slots(std::vector<SlotSpec>& slots, const std::function<const AabbTree&()>& bone_tree);
 
 /// Closed, outward-oriented mesh of the box {|n . (x - o)| <= half_width, e0 <= e . (x - o) <= e1,
 /// z0 <= height <= z1} in `frame` (12 triangles).

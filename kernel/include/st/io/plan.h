@@ -12,6 +12,10 @@
 //   Line         -> a drilling axis: first control point the entry at the bone, second a point
 //                   along the drilling direction inside it (its distance is the planned depth);
 //                   named by the markup's "name", else its first point's label, else "Line <n>"
+//   Plane        -> a cut plane for a saw slot: its "center" and "normal" (Slicer 5), else its first
+//                   control point and the normal of its first three (Slicer 4.11, 3-point planes);
+//                   named by the markup's "name", else "Plane <n>"; the travel is left to
+//                   slot_direction, the blade and length to the chosen sizes
 //   Fiducial (point list) with one point -> the point inside the region to keep
 //   Fiducial with 3 or more points       -> the boundary's control points when no ClosedCurve
 //   anything else                        -> reported and ignored
@@ -22,14 +26,18 @@
 // names the columns, in any order and case: name, entry_x, entry_y, entry_z, and either
 // direction_x/_y/_z (into the bone) or target_x/_y/_z (a point along the axis inside the bone,
 // which also gives the depth); optional inner_radius, outer_radius (or inner_diameter,
-// outer_diameter), length, offset, depth. Lengths in mm, in the mesh's frame, unless a comment
-// line "# space=RAS" or "# space=LPS" says the file's frame.
+// outer_diameter), length, offset, depth. A table with a normal_x column is one of cut planes
+// instead: name, origin_x/_y/_z, normal_x/_y/_z, optional direction_x/_y/_z (the saw's travel),
+// blade, clearance, length, height, wall and closed ("both", "none", "start", "end", "start end").
+// Lengths in mm, in the mesh's frame, unless a comment line "# space=RAS" or "# space=LPS" says the
+// file's frame.
 //
 // Every reader throws InvalidInput naming the file and the markup, control point, line or column.
 
 #include "st/io/case_file.h"
 #include "st/core/mesh.h"
 
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -61,12 +69,24 @@ struct PlanAxis {
   std::optional<double> inner_radius, outer_radius, length, offset;
 };
 
+/// A planned cut plane, for a saw slot (slot.h); what the plan does not give is empty.
+struct PlanPlane {
+  std::string name;
+  std::string source; ///< where it was read, for messages
+  Vec3 origin = Vec3::Zero();
+  Vec3 normal = Vec3::UnitX();   ///< unit
+  std::optional<Vec3> direction; ///< the saw's travel into the bone; empty: slot_direction decides
+  std::optional<double> blade, clearance, length, height, wall;
+  std::optional<std::array<bool, 2>> closed; ///< start, end
+};
+
 struct Plan {
   std::string path;
   std::string kind;                  ///< what the file was: "case", "markups" or "csv"
   std::vector<Vec3> boundary_points; ///< empty when the plan has no boundary
   std::optional<Vec3> inside;
   std::vector<PlanAxis> axes;
+  std::vector<PlanPlane> planes;
   std::vector<std::string> warnings;
 };
 
@@ -135,16 +155,27 @@ const BladePreset& find_blade_preset(const std::vector<BladePreset>& presets, co
 /// InvalidInput naming the axis when a size is missing from both or the sleeve is impossible.
 TubeSpec tube_from_axis(const PlanAxis& axis, const std::optional<SleevePreset>& sizes);
 
-/// How a plan's drilling axes meet the tubes a case already has.
+/// What a slot takes where its plan does not say: the blade (thickness and clearance) and the length.
+struct SlotSizes {
+  std::optional<BladePreset> blade;
+  std::optional<double> length;
+};
+
+/// A slot from a plan's cut plane: what the plane gives, else `sizes`, else the slot's defaults
+/// (slot.h) for height, wall and ends; no direction gives an auto_direction slot. Throws
+/// InvalidInput naming the plane when the blade or length is missing from both or a number is wrong.
+SlotSpec slot_from_plane(const PlanPlane& plane, const SlotSizes& sizes);
+
+/// How a plan's drilling axes (and cut planes) meet the tubes (and slots) a case already has.
 enum class PlanTubes { Replace, Add };
 
 /// Puts a plan into a case: its boundary (with its inside point, or none) and its inside point replace
-/// the case's, its axes become tubes (sizes the plan lacks from `sizes`) that replace the case's or
-/// are added to them; what the plan does not give stays. Returns the warnings: the plan's own, and
-/// that the case's inside point is dropped when a new boundary comes without one. Throws InvalidInput
-/// (tube_from_axis) before anything changes. The one way the tool, the module and the workbench
-/// apply plans.
+/// the case's, its axes become tubes (sizes the plan lacks from `sizes`) and its planes slots (from
+/// `slot_sizes`) that replace the case's or are added to them; what the plan does not give stays. Returns the warnings:
+/// the plan's own, and that the case's inside point is dropped when a new boundary comes without one. Throws
+/// InvalidInput (tube_from_axis) before anything changes. The one way the tool, the module and the workbench apply
+/// plans.
 std::vector<std::string> apply_plan(CaseFile& c, const Plan& plan, const std::optional<SleevePreset>& sizes,
-                                    PlanTubes tubes = PlanTubes::Replace);
+                                    PlanTubes tubes = PlanTubes::Replace, const SlotSizes& slot_sizes = {});
 
 } // namespace st
