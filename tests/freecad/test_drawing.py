@@ -15,18 +15,18 @@ from fc_session import FREECAD_LIB, ROOT, install_workbench
 CASE = os.path.join(ROOT, "examples", "cases", "maxilla-implants.json")
 
 
-@pytest.fixture(scope="module")
-def run(tmp_path_factory):
+def drawing_of(tmp_path_factory, case, folder):
+    """Runs drawing_session.py on a case; its result with the output folder."""
     if not os.path.exists(FREECAD_LIB):
         pytest.skip("FreeCAD is not installed")
     if not shutil.which("freecad") or not shutil.which("xvfb-run"):
         pytest.skip("FreeCAD GUI or Xvfb missing (the PDF/SVG export needs them)")
     home = tmp_path_factory.mktemp("fcdraw")
     install_workbench(str(home))
-    out = os.path.join(os.environ.get("ST_TEST_OUTPUT_DIR", str(tmp_path_factory.mktemp("out"))), "drawing")
+    out = os.path.join(os.environ.get("ST_TEST_OUTPUT_DIR", str(tmp_path_factory.mktemp("out"))), folder)
     shutil.rmtree(out, ignore_errors=True)
     os.makedirs(out)
-    env = dict(os.environ, FREECAD_USER_HOME=str(home), FREECAD_USER_DATA=str(home), ST_OUT=out, ST_CASE=CASE)
+    env = dict(os.environ, FREECAD_USER_HOME=str(home), FREECAD_USER_DATA=str(home), ST_OUT=out, ST_CASE=case)
     p = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "tests", "freecad", "drawing_session.py")],
                        capture_output=True, text=True, env=env, timeout=600)
     assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
@@ -35,6 +35,18 @@ def run(tmp_path_factory):
     result = json.loads(line[0][len("RESULT "):])
     result["out"] = out
     return result
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    return drawing_of(tmp_path_factory, CASE, "drawing")
+
+
+@pytest.fixture(scope="module")
+def cutting(tmp_path_factory):
+    """The drawing of the tibia cutting guide: two saw slots, two pins, a label."""
+    return drawing_of(tmp_path_factory, os.path.join(ROOT, "examples", "cases", "tibia-osteotomy.json"),
+                      "drawing-tibia")
 
 
 def names(run):
@@ -155,3 +167,21 @@ def test_clear_errors(run):
     assert e["paper"].startswith("ValueError") and "B7" in e["paper"]
     assert e["not_a_guide"].startswith("ValueError") and "not a surgical guide" in e["not_a_guide"]
     assert e["empty"].startswith("ValueError") and "EmptyGuide" in e["empty"] and "empty" in e["empty"]
+
+
+def test_a_cutting_guide_drawing_has_a_detail_and_a_table_row_per_slot(cutting):
+    """Each saw slot in a detail (its housing seen down the saw's travel) whose dimension reads its width,
+    blade + 2 x clearance, and in a table with its plane, travel, blade and width; the PDF keeps them as
+    text."""
+    widths = {d["view"]: d["value"] for d in cutting["dimensions"] if d["view"].startswith("Slot")}
+    assert len(widths) == 2
+    assert all(w == pytest.approx(0.89 + 2 * 0.1, abs=1e-6) for w in widths.values())
+    slot_views = [v for v in cutting["views"] if v["name"].startswith("Slot") and "visible_edges" in v]
+    assert len(slot_views) == 2 and all(v["visible_edges"] >= 8 for v in slot_views)
+    table = cutting["sheets"]["tibia-osteotomy slot table"]
+    assert table[:2] == ["Slot", "proximal cut"]
+    if shutil.which("pdftotext"):
+        text = subprocess.run(["pdftotext", "-layout", cutting["files"]["pdf"], "-"], capture_output=True,
+                              text=True).stdout
+        for words in ("SLOT proximal cut", "SLOT distal cut", "1.09", "0.89"):
+            assert words in text, words

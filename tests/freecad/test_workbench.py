@@ -101,6 +101,25 @@ def test_a_cutting_guide_case_loads_with_its_pins_slots_and_label(run):
     assert run["tibia_without_labels"]["volume"] > run["tibia"]["volume"] + 5.0, "the engraving takes material"
 
 
+def test_validate_checks_each_blade_path_and_label_on_the_finished_guide(run):
+    """Validate's rows for a cutting guide: both blade paths free on the finished mesh and the label as laid
+    (at least its planned 0.6 mm deep, 1 mm or more from sleeves and slots); a chip of material left in a slot
+    fails the guide, naming the slot and where."""
+    parts = run["tibia_parts"]
+    assert parts["passed"]
+    rows = {(r["name"], r["check"]): r for r in parts["rows"]}
+    for name in ("proximal cut", "distal cut"):
+        assert rows[(name, "blade path")]["passed"] and rows[(name, "blade path")]["result"].startswith("free")
+    labels = [r for r in parts["rows"] if r["check"] == 'engrave "TIBIA L1"']
+    assert len(labels) == 1 and "0.60 mm deep" in labels[0]["result"]
+    chipped = parts["chipped"]
+    assert not chipped["passed"]
+    assert "blade path blocked in slot 'proximal cut'" in chipped["summary"]
+    first = [r for r in chipped["rows"] if r["name"] == "proximal cut"][0]
+    assert not first["passed"] and first["result"].startswith("BLOCKED near")
+    assert [r["passed"] for r in chipped["rows"] if r["name"] == "distal cut"] == [True]
+
+
 def test_the_protocol_lists_pins_slots_and_labels(run):
     """The tibia guide's protocol: its pins by kind, a table of its saw slots (plane, travel, blade, width
     = blade + 2 x clearance, closed ends) and one of its labels (text, mode, cap height, depth)."""

@@ -141,6 +141,24 @@ measure(pinned, "tibia_without_slots")
 pinned.Slots = slots_text
 doc_tibia.recompute()
 result["tibia_protocol"] = st.drill_protocol(pinned)
+# Validate's slot and label rows: each blade path checked on the finished mesh; a chip of material left in
+# a slot (a 0.2 mm cube in the middle of its cut) fails the guide, naming the slot.
+checked = st.inspect(pinned, show=False)
+result["tibia_parts"] = {"rows": checked["parts"], "passed": checked["passed"]}
+import Mesh  # noqa: E402
+laid, planned = json.loads(pinned.PartsReport)["slots"][0], json.loads(pinned.Slots)[0]
+z = 0.5 * (laid["cut"][0] + laid["housing"][1])
+chip_at = [o - z * d for o, d in zip(planned["origin"], laid["direction"])]
+chipped = pinned.Mesh.copy()
+corner = [[chip_at[i] + (0.1 if (k >> i) & 1 else -0.1) for i in range(3)] for k in range(8)]
+quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+chipped.addMesh(Mesh.Mesh([[corner[q[0]], corner[q[i]], corner[q[i + 1]]] for q in quads for i in (1, 2)]))
+pinned.Mesh = chipped
+blocked = st.inspect(pinned, show=False)
+result["tibia_parts"]["chipped"] = {"passed": blocked["passed"], "summary": blocked["summary"],
+                                    "rows": blocked["parts"]}
+pinned.touch()
+pinned.Document.recompute()
 # And without its label: the engraving takes material too.
 labels_text = pinned.Labels
 pinned.Labels = ""

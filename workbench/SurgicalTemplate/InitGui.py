@@ -33,3 +33,15 @@ def _add_preferences():
 
 
 _add_preferences()
+
+
+def _restore_views_of_opened_documents():
+    """Documents made without the GUI open with the workbench's view providers (stviewproviders)."""
+    import SurgicalTemplate_paths  # noqa: F401  (puts this folder's packages on the path)
+    from stobjects.base import RESTORE_HOOKS
+    from stviewproviders.view_feature import restore_view
+
+    RESTORE_HOOKS.append(restore_view)
+
+
+_restore_views_of_opened_documents()

@@ -8,8 +8,8 @@
 
 or step by step: make_bone, make_boundary, make_template, make_tube, make_guide (alias make_final); a
 cutting guide's saw slots and labels: add_slot, add_label.
-Plans from planning software: load_plan (3D Slicer markups, CSV of axes, case files); sleeve sizes:
-sleeve_presets; documentation: make_drawing (TechDraw page, PDF, SVG, drill protocol). Each call is one
+Plans from planning software: load_plan (3D Slicer markups, CSV of axes or cut planes, case files);
+sleeve sizes and saw blades: sleeve_presets, blade_presets; documentation: make_drawing (TechDraw page, PDF, SVG, drill protocol). Each call is one
 undo step. Lengths are in mm. Kernel failures raise ValueError (bad
 input) or RuntimeError (geometry), naming what and where.
 
@@ -20,15 +20,16 @@ objects in stobjects, their view providers in stviewproviders, the GUI in stcomm
 import st_bridge  # noqa: F401  (scripts reach the kernel as SurgicalTemplate.st_bridge)
 from stdrawing.protocol import drill_protocol
 from stfunctions.inspection import inspect, thickness_colour
-from stfunctions.presets import sleeve_presets, user_presets_path
+from stfunctions.presets import blade_presets, sleeve_presets, user_presets_path
 from stfunctions.query import find_guide, tree_of
-from stmake.case import export, load_case, save_case
+from stmake.case import load_case, save_case
 from stmake.drawing import make_drawing
+from stmake.export import export
 from stmake.objects import make_bone, make_boundary, make_final, make_guide, make_template, make_tube, set_insertion
 from stmake.parts import add_label, add_slot
 from stmake.plan import load_plan
 from stmake.step import Step as _Step  # noqa: F401  (scripts and tests group their changes in one undo step)
 
 __all__ = ["make_bone", "make_boundary", "make_template", "make_tube", "make_guide", "make_final", "export",
-           "load_case", "save_case", "load_plan", "sleeve_presets", "find_guide", "tree_of", "inspect", "thickness_colour", "make_drawing", "drill_protocol",
+           "load_case", "save_case", "load_plan", "sleeve_presets", "blade_presets", "find_guide", "tree_of", "inspect", "thickness_colour", "make_drawing", "drill_protocol",
            "add_label", "add_slot"]

@@ -1,6 +1,8 @@
-"""The workbench's file commands: open a case, import a bone or a plan, save the case, export the STL,
-make the documentation drawing. Every change is recorded code through the API (SurgicalTemplate.py),
+"""The workbench's file commands: open a case, import a bone or a plan, save the case, export for
+printing (3MF, STL, OBJ) or the sleeves (STEP), make the documentation drawing. Every change is recorded code through the API (SurgicalTemplate.py),
 so the macro recorder writes a script that replays it and each change is one undo step."""
+import os
+
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtGui
@@ -9,7 +11,7 @@ import st_bridge
 from stcommands.base import Command
 from stfunctions.presets import sleeve_presets
 from stfunctions.query import tree_of
-from stutils.gui_utils import ref, run, selected
+from stutils.gui_utils import preference, ref, run, selected
 
 
 class ImportBone(Command):
@@ -89,8 +91,12 @@ def import_plan(path, target, choose_preset):
         preset = choose_preset(unsized)
         if preset is None:
             return False
+    # Planes without a blade or a length take the preferences' (as Add saw slot does).
+    blade = preference("SlotBlade", 0.89) if any(p["blade"] is None for p in plan["planes"]) else None
+    length = preference("SlotLength", 16.0) if any(p["length"] is None for p in plan["planes"]) else None
     target_code = ref(target) if target is not None else "None"
-    ok = run("Import plan", f"guide = SurgicalTemplate.load_plan({path!r}, {target_code}, preset={preset!r})")
+    ok = run("Import plan", f"guide = SurgicalTemplate.load_plan({path!r}, {target_code}, preset={preset!r}, "
+                            f"blade={blade!r}, slot_length={length!r})")
     if ok:
         Gui.SendMsgToActiveView("ViewFit")
     return ok
@@ -128,15 +134,20 @@ class SaveCase(Command):
 
 
 class ExportSTL(Command):
-    name, menu = "ExportSTL", "Export STL"
-    tip = "Write the selected template or guide as a binary STL for printing"
+    name, menu = "ExportSTL", "Export for printing"
+    tip = ("Write the selected template or guide for printing: 3MF (units kept; printers prefer it), STL or OBJ; "
+           "or a guide's sleeves as STEP solids for CAD")
+    FILTERS = {"3MF (*.3mf)": ".3mf", "STL (*.stl)": ".stl", "OBJ (*.obj)": ".obj",
+               "STEP of the sleeves (*.step *.stp)": ".step"}
 
     def IsActive(self):
         return bool(selected("Guide") or selected("Template"))
 
     def Activated(self):
         obj = (selected("Guide") or selected("Template"))[0]
-        path, _ = QtGui.QFileDialog.getSaveFileName(Gui.getMainWindow(), "Export STL", obj.Label + ".stl",
-                                                    "STL (*.stl)")
+        path, chosen = QtGui.QFileDialog.getSaveFileName(Gui.getMainWindow(), "Export", obj.Label + ".3mf",
+                                                         ";;".join(self.FILTERS))
         if path:
-            run("Export STL", f"SurgicalTemplate.export({ref(obj)}, {path!r})")
+            if not os.path.splitext(path)[1]:
+                path += self.FILTERS.get(chosen, ".3mf")
+            run("Export", f"SurgicalTemplate.export({ref(obj)}, {path!r})")

@@ -274,6 +274,10 @@ def guide_lines(guide, views, arrays=None):
         edges = []
         for p in polylines:
             p = _simplify(p, 0.01)
+            # A loop smaller than the tolerance simplifies to one point twice: nothing to draw.
+            p = p[np.concatenate([[True], np.linalg.norm(np.diff(p, axis=0), axis=1) > 1e-7])]
+            if len(p) < 2:
+                continue
             if len(p) == 2:
                 edges.append(Part.LineSegment(App.Vector(*p[0]), App.Vector(*p[1])).toShape())
             else:

@@ -1,7 +1,7 @@
 """The drawing's TechDraw page (Builder): front, top and side views of the guide (its line drawings),
 one dimensioned detail per sleeve (the Tube objects themselves, exact solids, so that TechDraw's
-dimensions find their edges), tables of the sleeves and the template, the title block; and the
-checks and clean-up around it."""
+dimensions find their edges) and per saw slot (stdrawing.slots), tables of the sleeves, the slots and
+the template, the title block; and the checks and clean-up around it."""
 import os
 
 import numpy as np
@@ -10,7 +10,8 @@ import FreeCAD as App
 import Part
 
 from stdrawing.lines import guide_lines
-from stdrawing.protocol import sleeve_rows, template_info, vec
+from stdrawing.protocol import sleeve_rows, slot_rows, template_info, vec
+from stdrawing.slots import dimension_slots, slot_details, slot_table
 
 SCALES = (20.0, 10.0, 5.0, 4.0, 3.0, 2.5, 2.0, 1.5, 1.0, 0.5, 0.4, 0.25, 0.2, 0.1)
 TEXT = 3.5            # mm, text on the page
@@ -90,6 +91,10 @@ class Builder:
         self.text = TEXT if a3 else 3.0
         self.small = SMALL if a3 else 2.0
         m = 5.0
+        self.slots = slot_rows(g)
+        for r in self.slots:
+            if r["placed"] is None:
+                raise ValueError(f"{g.Label}: slot '{r['name']}' has not been placed yet; recompute the guide")
         plan = self.detail_plan(wx1 - wx0 - 2 * m, 60.0 if a3 else 45.0)
         band = plan[1] * plan[4] if plan else 0.0
         self.page = self.add("TechDraw::DrawPage", "Drawing", f"{g.Label} drawing")
@@ -102,6 +107,8 @@ class Builder:
         self.page.addProperty("App::PropertyString", "DrawingData", "Surgical Template", "Its lines and tables")
         self.page.DrawingData = self.group.Name
         info = self.info_table((wx1 - m, wy1 - m))
+        if self.slots:
+            info = min(info, slot_table(self, self.slots, (wx1 - m, info[1] - m), self.small, _text_width), key=lambda c: c[0])
         top = (wx0 + m, ty1 + band + 2 * m, info[0] - 2 * m, wy1 - m)
         self.main_views(top)
         self.details(plan, wx0 + m, ty1 + m + band)
@@ -198,16 +205,18 @@ class Builder:
         return out
 
     def detail_plan(self, width, height):
-        """(scale, lines, columns, cell width, cell height) of the sleeve details in a band, or None."""
+        """(scale, lines, columns, cell width, cell height) of the sleeve and slot details in a band, or
+        None; the scale is the sleeves' (each slot's detail fits its cell at its own)."""
         rows = sleeve_rows(self.guide)
         self.detail_scale = SCALES[0]
-        if not rows:
+        count = len(rows) + len(self.slots)
+        if not count:
             return None
-        L = max(r["length"] for r in rows)
-        D = max(r["outer_diameter"] for r in rows)
+        L = max((r["length"] for r in rows), default=10.0)
+        D = max((r["outer_diameter"] for r in rows), default=5.0)
         best = None
         for lines in (1, 2, 3):
-            cols = -(-len(rows) // lines)
+            cols = -(-count // lines)
             cw, ch = width / cols, height / lines
             s = _fit_scale(L, D, cw - 8.0 * self.text, ch - 6.5 * self.text)
             if best is None or s > best[0]:
@@ -216,12 +225,17 @@ class Builder:
         return best
 
     def details(self, plan, x0, y1):
-        """One view per sleeve, across the sleeve's seam, in cells below y1."""
-        self.details_of = {}
+        """One view per sleeve, across the sleeve's seam, then one per slot, in cells below y1."""
+        self.details_of, self.slot_views = {}, {}
         if plan is None:
             return
         s, lines, cols, cw, ch = plan
         rows = sleeve_rows(self.guide)
+        cells = []
+        for i in range(len(rows), len(rows) + len(self.slots)):
+            row, col = divmod(i, cols)
+            cells.append((x0 + (col + 0.5) * cw, y1 - (row + 0.5) * ch + 0.8 * self.text, cw, ch))
+        self.slot_views = slot_details(self, self.slots, cells, _fit_scale, _scale_text)
         for i, (r, tube) in enumerate(zip(rows, self.guide.Tubes)):
             row, col = divmod(i, cols)
             cx, cy = x0 + (col + 0.5) * cw, y1 - (row + 0.5) * ch + 0.8 * self.text
@@ -250,7 +264,9 @@ class Builder:
         return dim
 
     def dimension_details(self):
-        """After a recompute: diameters and length of each sleeve, on its edges found by geometry."""
+        """After a recompute: diameters and length of each sleeve, on its edges found by geometry; each
+        slot's width."""
+        self.slot_dimensions = dimension_slots(self)
         for r, tube in zip(sleeve_rows(self.guide), self.guide.Tubes):
             v = self.details_of[tube.Name]
             s = v.Scale
@@ -463,6 +479,10 @@ def check_page(builder):
         got = tuple(d.getRawValue() for d in builder.dimensions.get(tube.Name, ()))
         if len(got) != 3 or any(abs(a - b) > 1e-4 for a, b in zip(want, got)):
             raise RuntimeError(f"{tube.Label}: sleeve dimensions {got} do not match {want}")
+    for r in builder.slots:
+        dim = builder.slot_dimensions.get(r["name"])
+        if dim is None or abs(dim.getRawValue() - r["width"]) > 1e-4:
+            raise RuntimeError(f"slot '{r['name']}': its width dimension does not read {r['width']:.4f}")
 
 
 def remove_drawings_of(guide, keep=None):

@@ -6,6 +6,7 @@ drawing's tables and its .txt file share.
     print(st.drill_protocol(guide))
 """
 import datetime
+import json
 import math
 
 import numpy as np
@@ -48,20 +49,34 @@ def sleeve_rows(guide):
     return rows
 
 
+def placements(guide):
+    """How the kernel placed the guide's slots at its last recompute, by name (its report's slot entries:
+    width, direction, housing, cut, extent, housing_extent, template_top, ...)."""
+    placed = json.loads(getattr(guide, "PartsReport", "") or "{}")
+    return {p["name"]: p for p in placed.get("slots", [])}
+
+
 def slot_rows(guide):
     """One dict per saw slot of the guide (mm): name, origin, normal (unit), travel (the saw's direction
-    in the plane, unit), blade, clearance, width (blade + 2 x clearance), length, closed (its closed ends)."""
+    in the plane, unit: as planned, else as the kernel laid it), blade, clearance, width (blade + 2 x
+    clearance), length, closed (its closed ends), placed (the kernel's placement, or None)."""
     rows = []
+    laid = placements(guide)
     for s in Guide.slots_of(guide):
         n = np.asarray(s["normal"], float)
         n /= np.linalg.norm(n)
-        d = np.asarray(s["direction"], float)
+        placed = laid.get(s["name"])
+        travel = s.get("direction") if s.get("direction") is not None else (placed or {}).get("direction")
+        if travel is None:
+            raise ValueError(f"{guide.Label}: slot '{s['name']}' has no travel yet (recompute the guide)")
+        d = np.asarray(travel, float)
         d = d - d.dot(n) * n
         d /= np.linalg.norm(d)
         clearance = float(s.get("clearance", 0.1))
         rows.append({"name": s["name"], "origin": np.asarray(s["origin"], float), "normal": n, "travel": d,
                      "blade": float(s["blade"]), "clearance": clearance, "width": float(s["blade"]) + 2 * clearance,
-                     "length": float(s["length"]), "closed": list(s.get("closed", ["start", "end"]))})
+                     "length": float(s["length"]), "closed": list(s.get("closed", ["start", "end"])),
+                     "wall": float(s.get("wall", 3.0)), "placed": placed})
     return rows
 
 

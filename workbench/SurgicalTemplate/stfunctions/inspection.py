@@ -1,4 +1,6 @@
 """The inspection of a guide or template on its bone (inspect), and the thickness map's colours."""
+import json
+
 import FreeCAD as App
 import numpy as np
 
@@ -46,13 +48,41 @@ def stability(template, bone, direction, arrays=None):
                           toward_bone=True)  # the solid's facets face out of it: into the bone
 
 
+def parts(guide, V, F):
+    """The checks of a cutting guide's slots and labels on its finished mesh (V, F): each slot's blade path
+    swept over the planned cut against the guide's triangles (exact tests, the kernel's check_blade_path),
+    each label's depth, the wall left under it and its distance from sleeves and slots as the kernel laid
+    it. [{name, check, passed, result}]; a guide recomputed before this version lacks its placements and
+    says so."""
+    k = st_bridge.kernel()
+    out = []
+    placed = json.loads(getattr(guide, "PartsReport", "") or "{}")
+    slots, laid = guide.Proxy.slots_of(guide), placed.get("slots", [])
+    for i, slot in enumerate(slots):
+        if i >= len(laid) or laid[i].get("name") != slot.get("name"):
+            out.append({"name": slot.get("name", ""), "check": "blade path", "passed": False,
+                        "result": "not checked: recompute the guide"})
+            continue
+        b = st_bridge.call(k.check_blade_path, V, F, slot, laid[i])
+        at = b["blocked_at"]
+        out.append({"name": slot["name"], "check": "blade path", "passed": bool(b["free"]),
+                    "result": f"free over {slot['length']:.1f} mm, {laid[i]['width']:.2f} mm wide" if b["free"] else
+                    f"BLOCKED near ({at[0]:.2f}, {at[1]:.2f}, {at[2]:.2f})"})
+    for label in placed.get("labels", []):
+        wall, clear = label.get("min_wall"), label.get("min_clearance")
+        out.append({"name": label["name"], "check": f"{label['mode']} \"{label['text']}\"", "passed": True,
+                    "result": f"{label['depth']:.2f} mm deep" + (f", wall under it {wall:.2f} mm" if wall else "") +
+                    (f", {clear:.1f} mm from the nearest sleeve or slot" if clear is not None else "")})
+    return out
+
+
 def inspect(obj, show=True, tolerance=0.01):
     """Inspects a guide or template on its bone with the kernel: {passed, summary, solid, vertices_in_bone,
     deepest_in_bone, seated_vertices, bores: [{name, margin, open}], face_distance (per facet, mm from
     the bone, negative inside it), thickness, clearance, removal: None, or {removable, direction,
     blocking: [[x, y, z]], blocked_faces} along the template's InsertionUsed, stability: None, or the
     kernel's analyse_stability of the template's inner surface pressed along it (score, free_motions,
-    worst_motion, press_point, contact_points, ...)}. With `show` in the GUI, the facets are coloured
+    worst_motion, press_point, contact_points, ...), parts: a cutting guide's slot and label checks (parts)}. With `show` in the GUI, the facets are coloured
     by thickness_colour (the thickness map; recomputing the object removes it)."""
     kind = kind_of(obj)
     if kind not in ("Guide", "Template"):
@@ -83,6 +113,11 @@ def inspect(obj, show=True, tolerance=0.01):
             r["summary"] += f"; meets the bone coming off near ({p[0]:.2f}, {p[1]:.2f}, {p[2]:.2f})"
         else:
             r["summary"] += "; comes off along its insertion direction"
+    r["parts"] = parts(obj, V, F) if kind == "Guide" else []
+    blocked = [p for p in r["parts"] if p["check"] == "blade path" and not p["passed"]]
+    if blocked:
+        r["passed"] = False
+        r["summary"] += "; blade path blocked in " + ", ".join(f"slot '{p['name']}'" for p in blocked)
     r["stability"] = stability(shell, bone, d, (V, F) if shell is obj else None) if d.Length > 0 else None
     if r["stability"]:
         r["summary"] += f"; stability score {r['stability']['score']:.2f}"

@@ -1,4 +1,4 @@
-"""Case files (docs/CASE-FORMAT.md) in and out, and the STL of a template or guide."""
+"""Case files (docs/CASE-FORMAT.md) in and out."""
 import os
 
 import FreeCAD as App
@@ -7,16 +7,6 @@ import st_bridge
 from stmake.objects import make_bone, make_boundary, make_guide, make_template, make_tube
 from stmake.step import Step
 from stobjects.template import insertion_argument
-
-
-def export(obj, path):
-    """Writes the mesh of a template or guide as binary STL (written whole or not at all)."""
-    if not hasattr(obj, "Mesh"):
-        raise ValueError(f"{obj.Label}: not a mesh object")
-    if obj.Mesh.CountFacets == 0:
-        raise ValueError(f"{obj.Label}: the mesh is empty (recompute it first)")
-    st_bridge.kernel().write_stl(*st_bridge.mesh_to_arrays(obj.Mesh), path)
-    return path
 
 
 def _direction(tube, case):

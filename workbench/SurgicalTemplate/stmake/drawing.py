@@ -36,8 +36,8 @@ def _check_guide(guide):
 
 def make_drawing(guide, path, paper="A3", pdf=True, svg=True):
     """The documentation drawing of a guide: a TechDraw page in its document (one undo step, replacing
-    the guide's previous drawing) with front, top and side views, a dimensioned detail per sleeve and
-    tables of the sleeves and the template; exported to PDF and SVG at `path` with its extension
+    the guide's previous drawing) with front, top and side views, a dimensioned detail per sleeve and per
+    saw slot and tables of the sleeves, the slots and the template; exported to PDF and SVG at `path` with its extension
     replaced, and a drill protocol next to them (.txt). Without the GUI the export runs FreeCAD under
     Xvfb in a subprocess. Returns {"page", "pdf", "svg", "protocol" (the text), "protocol_path"}."""
     _check_guide(guide)

@@ -12,7 +12,7 @@ from stobjects.boundary import Boundary
 from stobjects.guide import Guide
 from stobjects.template import Template
 from stobjects.tube import Tube
-from stviewproviders.view_feature import ViewProvider
+from stviewproviders.view_feature import GUIDE_COLOUR, ViewProvider
 
 
 def _view(obj, icon):
@@ -153,11 +153,12 @@ def make_guide(shell, tubes=(), tolerance=0.01, name="SurgicalGuide", slots=(), 
         obj.Slots = Guide.list_text(slots)
         obj.Labels = Guide.list_text(labels)
         _view(obj, "SurgicalTemplate_Guide.svg")
+        # The guide replaces its shell and sleeves in the view (they stay in the tree under it); the
+        # document's own Visibility, so that a document made without the GUI opens the same way.
+        for part in [shell, *tubes]:
+            part.Visibility = False
         if App.GuiUp:
-            obj.ViewObject.ShapeColor = (0.20, 0.45, 0.85)
-            # The guide replaces its shell and sleeves in the view (they stay in the tree under it).
-            for part in [shell, *tubes]:
-                part.ViewObject.Visibility = False
+            obj.ViewObject.ShapeColor = GUIDE_COLOUR
     return obj
 
 

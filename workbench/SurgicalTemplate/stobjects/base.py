@@ -1,6 +1,12 @@
 """What the workbench's proxies share: the proxy base (no state of its own) and the kind of an object."""
 
 
+# Called with each workbench object restored from a file: the GUI registers the one that gives an object
+# saved without the GUI its view provider (InitGui.py, stviewproviders.view_feature.restore_view); the
+# objects know nothing of the GUI.
+RESTORE_HOOKS = []
+
+
 class Feature:
     """Proxy base: no state of its own (everything is in properties), so saving and restoring
     documents needs nothing but the class (FreeCAD 0.20 uses __getstate__, 1.x dumps)."""
@@ -9,6 +15,10 @@ class Feature:
 
     def __init__(self, obj):
         obj.Proxy = self
+
+    def onDocumentRestored(self, obj):
+        for hook in RESTORE_HOOKS:
+            hook(obj)
 
     def __getstate__(self):
         return None

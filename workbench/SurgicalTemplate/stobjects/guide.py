@@ -1,7 +1,7 @@
 """The surgical guide (Mesh::FeaturePython): the template shell with its tubes merged and their bores
 cut by the kernel, its saw slots (Slots: the case file's slot keys as JSON, since 0.3) cut in their
 housings and its labels (Labels: the case file's label keys as JSON) engraved or embossed, checked as a
-printable solid; StabilityScore repeats its template's for expressions."""
+printable solid (how they were placed kept in PartsReport, for Validate); StabilityScore repeats its template's for expressions."""
 import json
 
 import numpy as np
@@ -31,8 +31,12 @@ class Guide(Feature):
         self.add(obj, "App::PropertyString", "Labels", "Guide",
                  "Text engraved into or embossed onto the outer surface: a JSON list with the case file's "
                  "label keys (text, at, up, height, depth, mode; docs/CASE-FORMAT.md); empty: none", "")
+        self.add(obj, "App::PropertyString", "PartsReport", "Result",
+                 "How the kernel placed the slots and labels at the last recompute (its report's slots and "
+                 "labels, JSON), for Validate", "", hidden=True)
 
     def onDocumentRestored(self, obj):
+        super().onDocumentRestored(obj)
         self.properties_since_0_3(obj)
 
     @staticmethod
@@ -91,12 +95,14 @@ class Guide(Feature):
                 raise
             V, F = g["mesh"]
             seconds = g["seconds"]
+            placed = {"slots": g["slots"], "labels": g["labels"]}
         else:
-            seconds = 0.0
+            seconds, placed = 0.0, {}
         report = st_bridge.call(k.check_solid, V, F)
         if not report["valid"]:
             raise RuntimeError(f"{obj.Label}: the guide failed its check: {report['summary']}")
         obj.Mesh = st_bridge.arrays_to_mesh(V, F)
+        obj.PartsReport = json.dumps(placed) if placed else ""
         self.drop_thickness_map(obj)
         obj.Status = f"{report['summary']}; tubes {seconds:.3f} s"
         if "StabilityScore" in obj.PropertiesList:

@@ -41,6 +41,7 @@ class Tube(Feature):
         self.add(obj, "App::PropertyLength", "CounterboreDepth", "Tube", "Depth of that hole", 0.0)
 
     def onDocumentRestored(self, obj):
+        super().onDocumentRestored(obj)
         self.properties_since_0_2(obj)
 
     def spec(self, obj):

@@ -1,5 +1,5 @@
 """The Validate task panel: the inspection of a guide or template (stfunctions.inspection) with its verdict,
-seating, bores, removal and stability (score, free motions, where to press, which border to extend), the
+seating, bores, saw slots' blade paths and labels, removal and stability (score, free motions, where to press, which border to extend), the
 thickness map on the mesh with its legend, and on demand the undercut map and the contacts. Its form is
 Resources/ui/validate.ui."""
 import FreeCAD as App
@@ -62,6 +62,15 @@ class ValidatePanel:
             f.bores.resizeColumnsToContents()
         else:
             f.bores.hide()
+        rows = [(p["name"], p["check"], p["result"]) for p in r.get("parts", [])]
+        if rows:
+            f.parts.setRowCount(len(rows))
+            for i, row in enumerate(rows):
+                for j, text in enumerate(row):
+                    f.parts.setItem(i, j, QtGui.QTableWidgetItem(text))
+            f.parts.resizeColumnsToContents()
+        else:
+            f.parts.hide()
         t, c = r["thickness"], r["clearance"]
         legend = ((-1.0, "in the bone"), (c, f"{c:.2f} mm: seated"), (c + t / 2, f"{c + t / 2:.2f} mm"),
                   (c + t, f"{c + t:.2f} mm: outer surface"), (c + 2 * t, "beyond: sleeves"))

@@ -1,10 +1,12 @@
 """The view provider of every workbench object (boundary, template, tube, guide): its icon, its
-children in the tree, the boundary's edit mode (the boundary task panel) and context menu, the
+children in the tree (shown again when it is deleted), the boundary's edit mode (the boundary task panel) and context menu, the
 thickness map's colouring turned off when a recompute drops the map, and a template's insertion arrow
 and undercut map (stviewproviders.insertion_view)."""
 import os
 
 import SurgicalTemplate_paths
+
+GUIDE_COLOUR = (0.20, 0.45, 0.85)
 
 
 class ViewProvider:
@@ -34,6 +36,13 @@ class ViewProvider:
         if hasattr(o, "Tubes"):
             kids += list(o.Tubes)
         return kids
+
+    def onDelete(self, vobj, subelements):
+        """Deleting a guide or template shows again what it hid (its shell and tubes, its boundary), as
+        Part's Booleans show their operands; undo brings the object back."""
+        for child in self.claimChildren():
+            child.Visibility = True
+        return True
 
     def updateData(self, obj, prop):
         """A recompute that drops the thickness map (stobjects.base.Feature.drop_thickness_map) turns
@@ -85,3 +94,23 @@ class ViewProvider:
 
     def loads(self, state):
         self.__setstate__(state)
+
+
+def restore_view(obj):
+    """Gives a workbench object restored in the GUI its view provider when the document has none for it (a
+    document made and saved without the GUI keeps no GuiDocument.xml): its icon, its children in the
+    tree, its edit mode (as Draft restores its view objects). Its visibility comes with the document."""
+    import FreeCAD as App
+    kind = getattr(getattr(obj, "Proxy", None), "kind", "")
+    vobj = getattr(obj, "ViewObject", None) if App.GuiUp else None
+    if not kind or vobj is None or isinstance(vobj.Proxy, ViewProvider):
+        return
+    ViewProvider(vobj, f"SurgicalTemplate_{kind}.svg").attach(vobj)
+    # Without a GuiDocument.xml entry the GUI hides what it restores once the document is read; shown
+    # then as make_guide leaves it: a guide's shell and tubes hidden under it, everything else shown.
+    under_a_guide = any(getattr(getattr(o, "Proxy", None), "kind", "") == "Guide" and
+                        (o.Shell == obj or obj in o.Tubes) for o in obj.Document.Objects)
+    from PySide import QtCore
+    QtCore.QTimer.singleShot(0, lambda: setattr(obj.ViewObject, "Visibility", not under_a_guide))
+    if kind == "Guide":
+        vobj.ShapeColor = GUIDE_COLOUR

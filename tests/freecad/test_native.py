@@ -1,0 +1,63 @@
+"""The workbench behaves like FreeCAD's own (issue 15): a document made without the GUI reopens intact in
+it, deleting a guide shows its parts again (undo restores it), File > Open and Import read cases and
+plans, and a guide is written for printing as 3MF (units kept), STL or OBJ, its sleeves as STEP."""
+import pytest
+
+from fc_session import run_gui, run_headless
+
+
+@pytest.fixture(scope="module")
+def made(tmp_path_factory):
+    return run_headless(tmp_path_factory, "native_headless.py")
+
+
+@pytest.fixture(scope="module")
+def opened(tmp_path_factory, made):
+    return run_gui(tmp_path_factory, "native_gui_session.py", "native-result.json", ST_DOC=made["document"], timeout=300)
+
+
+def test_a_headless_document_hides_the_guides_parts(made):
+    hidden = made["hidden"]
+    assert [v for k, v in hidden.items() if k != "maxilla-implants"].count(False) == len(hidden) - 1
+
+
+def test_a_headless_document_opens_in_the_gui_with_its_view_providers(opened):
+    providers = opened["view_providers"]
+    assert providers and all(p == "ViewProvider" for p in providers.values()), providers
+    icons = opened["icons"]
+    assert icons["maxilla-implants"] == "SurgicalTemplate_Guide.svg"
+    assert {icons[t] for t in ("16", "13", "11", "23", "26")} == {"SurgicalTemplate_Tube.svg"}
+    assert "SurgicalTemplate_Template.svg" in icons.values() and "SurgicalTemplate_Boundary.svg" in icons.values()
+    assert set(opened["children"]) >= {"16", "13", "11", "23", "26"} and len(opened["children"]) == 6
+    visible = opened["visible"]
+    assert visible["maxilla-implants"]
+    assert not any(visible[t] for t in ("16", "13", "11", "23", "26"))
+    assert [v for k, v in visible.items() if k in opened["children"]].count(True) == 0
+
+
+def test_deleting_the_guide_shows_its_parts_and_undo_restores_it(opened):
+    gone = opened["after_delete"]
+    assert gone["guides"] == 0
+    assert all(gone["visible"].values()) and len(gone["visible"]) == 6
+    assert opened["after_undo"]["guides"] == 1
+
+
+def test_file_open_and_import_know_cases_and_plans(made, opened):
+    assert "st_import" in opened["import_types"]
+    assert made["opened"]["kind"] == "Guide" and made["opened"]["tubes"] == 2
+    assert made["opened"]["slots"] == ["proximal plane", "distal plane"]
+    assert made["inserted"]["slots"] == ["proximal plane", "distal plane"]
+    assert "Invalid" not in made["inserted"]["state"]
+    assert "goes on a bone" in made["plan_opened_alone"]
+
+
+def test_written_for_printing_in_each_format(made):
+    files, volume = made["files"], made["guide_volume"]
+    assert files["3mf"]["unit"] == "millimeter"
+    assert files["3mf"]["volume"] == pytest.approx(volume, rel=1e-7)  # coordinates read back as the same floats
+    assert files["stl"]["volume"] == pytest.approx(volume, rel=1e-6)
+    assert files["obj"]["size"] > 10_000
+    assert files["step"]["solids"] == 5 and files["step"]["volume"] == pytest.approx(files["step"]["tubes"], rel=1e-6)
+    assert made["leftovers"] == []
+    assert "unknown format 'xyz'" in made["export_errors"]["format"] and "3mf" in made["export_errors"]["format"]
+    assert "no sleeves" in made["export_errors"]["step_of_template"]
