@@ -3,11 +3,15 @@ drawn by clicks at the screen positions of the control points, screenshots measu
 $ST_OUT/gui-result.json; test_gui.py asserts on it."""
 import json
 import os
+import sys
 import traceback
 
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gui_helpers import tree_double_click  # noqa: E402
 
 out, case_path = os.environ["ST_OUT"], os.environ["ST_CASE"]
 result = {"errors": []}
@@ -180,32 +184,6 @@ def key(widget, code):
         QtGui.QApplication.sendEvent(widget, QtGui.QKeyEvent(QtCore.QEvent.KeyPress, code, QtCore.Qt.NoModifier))
     Gui.updateGui()
     return override.isAccepted()
-
-
-def tree_double_click(doc, obj):
-    """Double-clicks the object's item under its document in the tree view, as a user does."""
-    for tree in Gui.getMainWindow().findChildren(QtGui.QTreeWidget):
-        top = [tree.topLevelItem(i) for i in range(tree.topLevelItemCount())]  # "Application"
-        stack = [item.child(i) for item in top for i in range(item.childCount()) if item.child(i).text(0) == doc.Label]
-        while stack:
-            item = stack.pop()
-            if item.text(0) == obj.Label and item.parent() is not None:
-                parent = item.parent()
-                while parent is not None:
-                    parent.setExpanded(True)
-                    parent = parent.parent()
-                tree.scrollToItem(item)
-                Gui.updateGui()
-                at = tree.visualItemRect(item).center()
-                for kind in (QtCore.QEvent.MouseButtonPress, QtCore.QEvent.MouseButtonRelease,
-                             QtCore.QEvent.MouseButtonDblClick, QtCore.QEvent.MouseButtonRelease):
-                    buttons = QtCore.Qt.NoButton if kind == QtCore.QEvent.MouseButtonRelease else QtCore.Qt.LeftButton
-                    QtGui.QApplication.sendEvent(tree.viewport(), QtGui.QMouseEvent(
-                        kind, at, QtCore.Qt.LeftButton, buttons, QtCore.Qt.NoModifier))
-                Gui.updateGui()
-                return True
-            stack += [item.child(i) for i in range(item.childCount())]
-    return False
 
 
 def cutting_commands():

@@ -4,11 +4,15 @@ deleting the guide shows them again and undo brings the guide back; the workbenc
 registered. Writes $ST_OUT/native-result.json."""
 import json
 import os
+import sys
 import traceback
 
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gui_helpers import tree_double_click  # noqa: E402
 
 out, document = os.environ["ST_OUT"], os.environ["ST_DOC"]
 result = {"errors": []}
@@ -28,6 +32,41 @@ def answer_dialogs():
         (yes[0].click() if yes else w.accept())
 
 
+def edit_a_tube(doc):
+    """Double-click a tube in the tree: its panel opens with its numbers; a changed outer radius shows on
+    the guide at once; Cancel puts it back; OK keeps a change as one undo step."""
+    from sttaskpanels.tube import TubePanel
+    guide = [o for o in doc.Objects if kind(o) == "Guide"][0]
+    tube = guide.Tubes[0]
+    r = result["edit"] = {"outer": tube.OuterRadius.Value, "volume": guide.Mesh.Volume}
+    TubePanel.last = None
+    r["dialog_before"] = bool(Gui.Control.activeDialog())
+    r["double_clicked"] = tree_double_click(doc, tube)
+    panel = TubePanel.last
+    r["opened"] = panel is not None and panel.tube == tube
+    if panel is None:  # so that the rest still runs and reports
+        Gui.getDocument(doc.Name).setEdit(tube.Name, 0)
+        panel = TubePanel.last
+    gui_doc = Gui.getDocument(doc.Name)
+    r["in_edit"] = gui_doc.getInEdit() is not None and gui_doc.getInEdit().Object.Name == tube.Name
+    r["panel_outer"] = panel.fields["outer"].value()
+    panel.fields["outer"].setValue(r["outer"] + 0.5)
+    Gui.updateGui()
+    r["preview"] = {"outer": tube.OuterRadius.Value, "volume": guide.Mesh.Volume}
+    panel.reject()
+    Gui.updateGui()
+    r["cancelled"] = {"outer": tube.OuterRadius.Value, "volume": guide.Mesh.Volume,
+                      "in_edit": gui_doc.getInEdit() is not None}
+    undo = doc.UndoCount
+    gui_doc.setEdit(tube.Name, 0)
+    TubePanel.last.fields["outer"].setValue(r["outer"] + 0.3)
+    TubePanel.last.accept()
+    Gui.updateGui()
+    r["accepted"] = {"outer": tube.OuterRadius.Value, "undo_steps": doc.UndoCount - undo}
+    doc.undo()
+    r["undone"] = {"outer": tube.OuterRadius.Value}
+
+
 def work():
     try:
         doc = App.openDocument(document)
@@ -39,6 +78,8 @@ def work():
         guide = [o for o in ours if kind(o) == "Guide"][0]
         result["children"] = sorted(c.Label for c in guide.ViewObject.Proxy.claimChildren())
         result["visible"] = {o.Label: bool(o.ViewObject.Visibility) for o in ours}
+        doc.UndoMode = 1
+        edit_a_tube(doc)
         # Delete the guide as a user does (selection, Std_Delete): its shell and tubes show again.
         doc.UndoMode = 1
         Gui.Selection.clearSelection()
@@ -56,12 +97,13 @@ def work():
         Gui.updateGui()
         result["after_undo"] = {"guides": len([o for o in doc.Objects if kind(o) == "Guide"])}
         result["import_types"] = App.getImportType("json")
-        App.closeDocument(doc.Name)  # changed: closing the window would ask to save it
     except Exception:
         result["errors"].append(traceback.format_exc())
     finally:
         with open(os.path.join(out, "native-result.json"), "w") as f:
             json.dump(result, f, indent=1)
+        for name in list(App.listDocuments()):
+            App.closeDocument(name)  # changed: closing the window would ask to save them
         Gui.getMainWindow().close()
 
 

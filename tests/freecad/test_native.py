@@ -61,3 +61,15 @@ def test_written_for_printing_in_each_format(made):
     assert made["leftovers"] == []
     assert "unknown format 'xyz'" in made["export_errors"]["format"] and "3mf" in made["export_errors"]["format"]
     assert "no sleeves" in made["export_errors"]["step_of_template"]
+
+
+def test_double_click_on_a_tube_edits_it_with_a_live_preview(opened):
+    e = opened["edit"]
+    assert e["double_clicked"] and e["opened"] and e["in_edit"]
+    assert e["panel_outer"] == pytest.approx(e["outer"])
+    assert e["preview"]["outer"] == pytest.approx(e["outer"] + 0.5)
+    assert e["preview"]["volume"] > e["volume"] + 1.0  # the guide shows the thicker sleeve at once
+    assert e["cancelled"]["outer"] == pytest.approx(e["outer"])
+    assert e["cancelled"]["volume"] == pytest.approx(e["volume"], rel=1e-9) and not e["cancelled"]["in_edit"]
+    assert e["accepted"]["outer"] == pytest.approx(e["outer"] + 0.3) and e["accepted"]["undo_steps"] == 1
+    assert e["undone"]["outer"] == pytest.approx(e["outer"])

@@ -80,6 +80,19 @@ def make_template(boundary, thickness=2.5, clearance=0.0, resolution=0.0, sampli
     return obj
 
 
+def edit_tube(tube, **values):
+    """Changes a tube's properties by name (InnerRadius, OuterRadius, Length, Offset, Entry, Direction,
+    Depth, ...; lengths in mm) and recomputes: one undo step. Returns the tube."""
+    unknown = [k for k in values if k not in tube.PropertiesList]
+    if unknown:
+        raise ValueError(f"{tube.Label}: no property {', '.join(unknown)}")
+    with Step(tube.Document, "Edit drilling tube"):
+        for name, value in values.items():
+            setattr(tube, name, App.Vector(*value) if isinstance(value, (tuple, list)) else value)
+    tube.Document.recompute()
+    return tube
+
+
 def set_insertion(template, direction):
     """Sets a template's insertion: "auto", a direction (the guide moves along it onto the bone; e.g. the
     3D view's direction), or None (no block-out, no removal check). One undo step; recompute after."""

@@ -9,7 +9,7 @@ from PySide import QtGui
 
 from stobjects.boundary import Boundary
 from sttaskpanels.boundary_view import Overlay, PanelEvents
-from stutils.gui_utils import load_form, ref, run, view_of
+from stutils.gui_utils import leave_edit, load_form, ref, run, view_of
 
 
 def edit_boundary(boundary):
@@ -358,15 +358,7 @@ class BoundaryPanel:
 
     def leave_edit(self):
         """Ends the boundary's edit mode, if the panel was opened by it."""
-        if self.boundary is None:
-            return
-        try:
-            gui_doc = Gui.getDocument(self.boundary.Document.Name)
-            vp = gui_doc.getInEdit()
-            if vp is not None and vp.Object.Name == self.boundary.Name:
-                gui_doc.resetEdit()
-        except Exception:  # document or boundary gone
-            pass
+        leave_edit(self.boundary)
 
     @classmethod
     def edit_ended(cls, boundary):

@@ -1,11 +1,29 @@
 """The drilling tube task panel: the entry clicked on the bone, the direction from the surface normal,
 the view or a second point, sizes from a sleeve preset or typed in; OK adds the tube through recorded
-code. Its form is Resources/ui/tube.ui."""
+code. Opened on an existing tube (double-click in the tree: edit_tube) it shows the tube's numbers,
+previews each change on the guide, and OK records the changes as one undo step (Cancel leaves the tube
+as it was). Its form is Resources/ui/tube.ui."""
 import FreeCAD as App
 import FreeCADGui as Gui
 
 from stfunctions.presets import sleeve_presets
-from stutils.gui_utils import load_form, preference, ref, run, view_of
+from stfunctions.query import kind_of
+from stutils.gui_utils import leave_edit, load_form, preference, ref, run, view_of
+
+SIZES = (("inner", "InnerRadius"), ("outer", "OuterRadius"), ("length", "Length"), ("offset", "Offset"))
+
+
+def edit_tube(tube):
+    """Opens the tube panel on an existing tube (its view provider's edit mode). False when it cannot."""
+    if Gui.Control.activeDialog():
+        App.Console.PrintWarning("Surgical Template: close the open task panel first, then edit the tube\n")
+        return False
+    guides = [o for o in tube.InList if kind_of(o) == "Guide"]
+    guide = guides[0] if guides else None
+    shell = guide.Shell if guide is not None else None
+    bone = shell.Boundary.Bone if shell is not None and shell.Boundary is not None else None
+    Gui.Control.showDialog(TubePanel(bone, guide, tube))
+    return True
 
 
 class TubePanel:
@@ -15,9 +33,9 @@ class TubePanel:
 
     last = None  # the open panel, for scripts and tests
 
-    def __init__(self, bone, guide):
+    def __init__(self, bone, guide, tube=None):
         TubePanel.last = self
-        self.bone, self.guide = bone, guide
+        self.bone, self.guide, self.tube = bone, guide, tube
         self.form = load_form("tube")
         self.presets = sleeve_presets()
         self.preset = self.form.preset
@@ -35,6 +53,34 @@ class TubePanel:
         self.picked = None  # (entry, direction into the bone, depth or 0)
         self.view = view_of(bone.Document if bone is not None else App.ActiveDocument)
         self.callback = self.view.addEventCallback("SoMouseButtonEvent", self.on_mouse)
+        if tube is not None:
+            self.open_on(tube)
+
+    def open_on(self, tube):
+        """Fills the panel from an existing tube and previews each change on it, inside a transaction
+        that OK or Cancel closes."""
+        self.form.setWindowTitle(f"Edit tube {tube.Label}")
+        for key, prop in SIZES:
+            self.fields[key].setValue(getattr(tube, prop).Value)
+        depth = getattr(tube, "Depth", None)
+        self.picked = (App.Vector(tube.Entry), App.Vector(tube.Direction), depth.Value if depth is not None else 0.0)
+        self.show_picked()
+        self.before = {prop: getattr(tube, prop).Value for _, prop in SIZES}
+        self.before_axis = (App.Vector(tube.Entry), App.Vector(tube.Direction))
+        for key, prop in SIZES:
+            self.fields[key].valueChanged.connect(lambda value, prop=prop: self.preview(prop, value))
+
+    def preview(self, prop, value):
+        """A changed size shown on the tube and its guide at once (undone by Cancel, recorded by OK)."""
+        setattr(self.tube, prop, value)
+        self.tube.Document.recompute()
+
+    def restore(self):
+        """The tube as it was before the panel opened."""
+        for prop, value in self.before.items():
+            setattr(self.tube, prop, value)
+        self.tube.Entry, self.tube.Direction = self.before_axis
+        self.tube.Document.recompute()
 
     def apply_preset(self, index):
         if index <= 0:
@@ -84,11 +130,14 @@ class TubePanel:
             else:
                 d = None  # wait for the second point
             self.picked = (p, d, 0.0)
-            self.entry.setText(f"{p.x:.2f}, {p.y:.2f}, {p.z:.2f}")
-        e, d, depth = self.picked
+        self.show_picked()
+        return True
+
+    def show_picked(self):
+        p, d, depth = self.picked
+        self.entry.setText(f"{p.x:.2f}, {p.y:.2f}, {p.z:.2f}")
         self.axis.setText("click a second point along the axis" if d is None else
                           f"direction {d.x:.3f}, {d.y:.3f}, {d.z:.3f}" + (f"; depth {depth:.1f} mm" if depth else ""))
-        return True
 
     def accept(self):
         f = {k: v.value() for k, v in self.fields.items()}  # before closing deletes the widgets
@@ -96,9 +145,21 @@ class TubePanel:
         preset = self.presets[index - 1]["name"] if index > 0 else ""
         self.view.removeEventCallback("SoMouseButtonEvent", self.callback)
         Gui.Control.closeDialog()
+        leave_edit(self.tube)
         if self.picked is None or self.picked[1] is None:
+            if self.tube is not None:
+                self.restore()
             return True
         p, d, depth = self.picked
+        if self.tube is not None:
+            # The preview undone, then the changes as recorded code: one undo step, in the macro.
+            self.restore()
+            changes = [f"{prop}={f[key]}" for key, prop in SIZES if f[key] != self.before[prop]]
+            if (p, d) != self.before_axis:
+                changes += [f"Entry=({p.x:.4f}, {p.y:.4f}, {p.z:.4f})", f"Direction=({d.x:.5f}, {d.y:.5f}, {d.z:.5f})"]
+            if changes:
+                run("Edit drilling tube", f"SurgicalTemplate.edit_tube({ref(self.tube)}, {', '.join(changes)})")
+            return True
         code = (f"tube = SurgicalTemplate.make_tube(({p.x:.4f}, {p.y:.4f}, {p.z:.4f}), ({d.x:.5f}, {d.y:.5f}, "
                 f"{d.z:.5f}), {f['inner']}, {f['outer']}, {f['length']}, {f['offset']}"
                 + (f", depth={depth:.3f}" if depth else "") + (f", preset={preset!r}" if preset else "")
@@ -109,4 +170,7 @@ class TubePanel:
     def reject(self):
         self.view.removeEventCallback("SoMouseButtonEvent", self.callback)
         Gui.Control.closeDialog()
+        leave_edit(self.tube)
+        if self.tube is not None:
+            self.restore()
         return True

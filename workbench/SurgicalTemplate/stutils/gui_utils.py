@@ -84,3 +84,16 @@ def view_of(doc):
 def load_form(name):
     """A task panel's form from its Qt Designer file Resources/ui/<name>.ui."""
     return Gui.PySideUic.loadUi(os.path.join(SurgicalTemplate_paths.UI, f"{name}.ui"))
+
+
+def leave_edit(obj):
+    """Ends `obj`'s edit mode in the GUI, if it is the object in edit (a panel opened by double-click)."""
+    if obj is None:
+        return
+    try:
+        gui_doc = Gui.getDocument(obj.Document.Name)
+        vp = gui_doc.getInEdit()
+        if vp is not None and vp.Object.Name == obj.Name:
+            gui_doc.resetEdit()
+    except Exception:  # document or object gone
+        pass

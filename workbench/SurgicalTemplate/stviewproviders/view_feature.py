@@ -60,26 +60,33 @@ class ViewProvider:
     # a double-click in the tree enters edit mode 0 (FreeCAD's default for Part features, so there is no
     # doubleClicked here: in 0.20 any doubleClicked, even one returning None, replaces the default for all
     # kinds). For other kinds these return None, which leaves FreeCAD's default behaviour.
+    def _kind(self):
+        return getattr(getattr(getattr(self, "Object", None), "Proxy", None), "kind", "")
+
     def _editable(self):
-        return getattr(getattr(getattr(self, "Object", None), "Proxy", None), "kind", "") == "Boundary"
+        return self._kind() in ("Boundary", "Tube")
 
     def setEdit(self, vobj, mode=0):
         if mode != 0 or not self._editable():
             return None
+        if self._kind() == "Tube":
+            from sttaskpanels.tube import edit_tube
+            return edit_tube(vobj.Object)
         from sttaskpanels import boundary
         return boundary.edit_boundary(vobj.Object)
 
     def unsetEdit(self, vobj, mode=0):
         if mode != 0 or not self._editable():
             return None
-        from sttaskpanels import boundary
-        boundary.BoundaryPanel.edit_ended(vobj.Object)
+        if self._kind() == "Boundary":
+            from sttaskpanels import boundary
+            boundary.BoundaryPanel.edit_ended(vobj.Object)
         return True
 
     def setupContextMenu(self, vobj, menu):
         if self._editable():
             import FreeCADGui
-            action = menu.addAction("Edit boundary points")
+            action = menu.addAction("Edit boundary points" if self._kind() == "Boundary" else "Edit tube")
             action.triggered.connect(
                 lambda: FreeCADGui.getDocument(vobj.Object.Document.Name).setEdit(vobj.Object.Name, 0))
 
