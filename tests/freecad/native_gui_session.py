@@ -12,7 +12,7 @@ import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_helpers import tree_double_click  # noqa: E402
+from gui_helpers import tree_context_menu, tree_double_click  # noqa: E402
 
 out, document = os.environ["ST_OUT"], os.environ["ST_DOC"]
 result = {"errors": []}
@@ -41,7 +41,11 @@ def edit_a_tube(doc):
     r = result["edit"] = {"outer": tube.OuterRadius.Value, "volume": guide.Mesh.Volume}
     TubePanel.last = None
     r["dialog_before"] = bool(Gui.Control.activeDialog())
+    for _ in range(5):  # let the tree settle after the document opened
+        QtGui.QApplication.processEvents()
+        QtCore.QThread.msleep(100)
     r["double_clicked"] = tree_double_click(doc, tube)
+    r["in_edit_after_click"] = str(Gui.getDocument(doc.Name).getInEdit())
     panel = TubePanel.last
     r["opened"] = panel is not None and panel.tube == tube
     if panel is None:  # so that the rest still runs and reports
@@ -67,6 +71,22 @@ def edit_a_tube(doc):
     r["undone"] = {"outer": tube.OuterRadius.Value}
 
 
+def menus_and_toolbars(doc, guide):
+    """The workbench's menu (groups between separators, shortcuts), its toolbars, and the tree's context
+    menu on a guide."""
+    Gui.activateWorkbench("SurgicalTemplateWorkbench")
+    Gui.updateGui()
+    mw = Gui.getMainWindow()
+    menu = [m for m in mw.menuBar().findChildren(QtGui.QMenu) if m.title().replace("&", "") == "Surgical Template"][0]
+    result["menu"] = [["", ""] if a.isSeparator() else [a.text().replace("&", ""), a.shortcut().toString()]
+                      for a in menu.actions()]
+    result["toolbars"] = {t.windowTitle(): len([a for a in t.actions() if not a.isSeparator()])
+                          for t in mw.findChildren(QtGui.QToolBar) if t.windowTitle().startswith("Surgical")}
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(guide)
+    result["context_menu"] = tree_context_menu(doc, guide)
+
+
 def work():
     try:
         doc = App.openDocument(document)
@@ -80,6 +100,7 @@ def work():
         result["visible"] = {o.Label: bool(o.ViewObject.Visibility) for o in ours}
         doc.UndoMode = 1
         edit_a_tube(doc)
+        menus_and_toolbars(doc, guide)
         # Delete the guide as a user does (selection, Std_Delete): its shell and tubes show again.
         doc.UndoMode = 1
         Gui.Selection.clearSelection()

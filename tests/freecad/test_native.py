@@ -73,3 +73,20 @@ def test_double_click_on_a_tube_edits_it_with_a_live_preview(opened):
     assert e["cancelled"]["volume"] == pytest.approx(e["volume"], rel=1e-9) and not e["cancelled"]["in_edit"]
     assert e["accepted"]["outer"] == pytest.approx(e["outer"] + 0.3) and e["accepted"]["undo_steps"] == 1
     assert e["undone"]["outer"] == pytest.approx(e["outer"])
+
+
+def test_menu_in_groups_with_shortcuts_toolbars_and_a_context_menu(opened):
+    """The menu's three groups (case; design; checks and output) between separators, shortcuts on the
+    frequent commands, a toolbar per group, and a right-click on a guide offers what one does with it."""
+    menu = opened["menu"]
+    texts = [t for t, _ in menu]
+    assert texts.count("") == 2
+    first, second = texts.index(""), texts.index("", texts.index("") + 1)
+    assert "Open case file" in texts[:first] and "Add drilling tube" in texts[first:second]
+    assert "Validate" in texts[second:] and "Export for printing" in texts[second:]
+    shortcuts = dict(menu)
+    assert shortcuts["Add drilling tube"] == "T, T" and shortcuts["Validate"] == "T, V"
+    assert len(opened["toolbars"]) == 3 and sum(opened["toolbars"].values()) == len(texts) - 2
+    context = opened["context_menu"]
+    for words in ("Add drilling tube", "Add saw slot from view", "Add label", "Validate", "Export for printing"):
+        assert words in context, (words, context)

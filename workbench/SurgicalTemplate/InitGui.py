@@ -15,9 +15,17 @@ class SurgicalTemplateWorkbench(Gui.Workbench):
     def Initialize(self):
         from stcommands import toolbar
 
-        names = toolbar.register()
-        self.appendToolbar("Surgical Template", names)
-        self.appendMenu("Surgical Template", names)
+        toolbars, menu = toolbar.register()
+        for title, names in toolbars:
+            self.appendToolbar(title, names)
+        self.appendMenu("Surgical Template", menu)
+
+    def ContextMenu(self, recipient):
+        from stcommands import toolbar
+
+        names = toolbar.context_menu(Gui.Selection.getSelection())
+        if names:
+            self.appendContextMenu("", ["Separator"] + names)
 
     def GetClassName(self):
         return "Gui::PythonWorkbench"

@@ -10,10 +10,14 @@ class Command:
     name = ""
     menu = ""
     tip = ""
+    accel = ""  # its shortcut (stcommands.toolbar.SHORTCUTS)
     needs_document = True
 
     def GetResources(self):
-        return {"Pixmap": icon(self.name), "MenuText": self.menu, "ToolTip": self.tip}
+        resources = {"Pixmap": icon(self.name), "MenuText": self.menu, "ToolTip": self.tip}
+        if self.accel:
+            resources["Accel"] = self.accel
+        return resources
 
     def IsActive(self):
         return App.ActiveDocument is not None or not self.needs_document

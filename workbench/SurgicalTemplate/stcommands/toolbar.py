@@ -1,4 +1,5 @@
-"""The workbench's commands in toolbar and menu order, and their registration with FreeCAD."""
+"""The workbench's commands in toolbar and menu order (three groups: the case, the design, checks and
+output), their shortcuts, the context menu for what is selected, and their registration with FreeCAD."""
 import FreeCADGui as Gui
 
 from stcommands.design import (AddLabel, AddSlot, AddTube, CreateGuide, CreateTemplate, DrawBoundary,
@@ -24,7 +25,58 @@ COMMANDS = {
 }
 
 
+GROUPS = (
+    ("Case", ["SurgicalTemplate_OpenCase", "SurgicalTemplate_ImportBone", "SurgicalTemplate_ImportPlan",
+              "SurgicalTemplate_SaveCase"]),
+    ("Design", ["SurgicalTemplate_DrawBoundary", "SurgicalTemplate_CreateTemplate",
+                "SurgicalTemplate_InsertionFromView", "SurgicalTemplate_AddTube", "SurgicalTemplate_CreateGuide",
+                "SurgicalTemplate_AddSlot", "SurgicalTemplate_AddLabel"]),
+    ("Check and output", ["SurgicalTemplate_Validate", "SurgicalTemplate_ExportSTL", "SurgicalTemplate_Drawing"]),
+)
+
+# Two-key shortcuts, as FreeCAD's workbenches have them ("T" for template), for the frequent commands.
+SHORTCUTS = {
+    "SurgicalTemplate_OpenCase": "T, O",
+    "SurgicalTemplate_DrawBoundary": "T, B",
+    "SurgicalTemplate_CreateTemplate": "T, M",
+    "SurgicalTemplate_AddTube": "T, T",
+    "SurgicalTemplate_CreateGuide": "T, G",
+    "SurgicalTemplate_Validate": "T, V",
+    "SurgicalTemplate_ExportSTL": "T, E",
+}
+
+# What the context menu offers on a selected object of each kind.
+CONTEXT = {
+    "Bone": ["SurgicalTemplate_DrawBoundary", "SurgicalTemplate_ImportPlan"],
+    "Boundary": ["SurgicalTemplate_CreateTemplate"],
+    "Template": ["SurgicalTemplate_InsertionFromView", "SurgicalTemplate_AddTube", "SurgicalTemplate_CreateGuide",
+                 "SurgicalTemplate_Validate", "SurgicalTemplate_ExportSTL"],
+    "Guide": ["SurgicalTemplate_AddTube", "SurgicalTemplate_AddSlot", "SurgicalTemplate_AddLabel",
+              "SurgicalTemplate_ImportPlan", "Separator", "SurgicalTemplate_Validate", "SurgicalTemplate_ExportSTL",
+              "SurgicalTemplate_Drawing", "SurgicalTemplate_SaveCase"],
+}
+
+
 def register():
+    """Registers the commands with their shortcuts; returns (toolbars, menu): a toolbar per group, and the
+    menu's commands with separators between the groups."""
     for name, command in COMMANDS.items():
+        command.accel = SHORTCUTS.get(name, "")
         Gui.addCommand(name, command)
-    return list(COMMANDS)
+    menu = []
+    for _, names in GROUPS:
+        menu += (["Separator"] if menu else []) + names
+    return [(f"Surgical Template {title.lower()}", names) for title, names in GROUPS], menu
+
+
+def context_menu(selection):
+    """The commands the context menu offers for the selected objects (their kinds' lists, once each)."""
+    from stobjects.base import kind_of
+    out = []
+    for obj in selection:
+        for name in CONTEXT.get(kind_of(obj), []):
+            if name == "Separator" or name not in out:
+                out.append(name)
+    while out and out[-1] == "Separator":
+        out.pop()
+    return out
