@@ -98,6 +98,25 @@ SleevePreset to_preset(const py::dict& d) {
   return p;
 }
 
+/// A blade from a dict with blade_presets' keys (name, thickness, clearance optional).
+BladePreset to_blade(const py::dict& d) {
+  BladePreset b;
+  b.name = d.contains("name") ? py::str(d["name"]).cast<std::string>() : "blade";
+  b.description = d.contains("description") ? py::str(d["description"]).cast<std::string>() : "";
+  b.thickness = d["thickness"].cast<double>();
+  b.clearance = d.contains("clearance") ? d["clearance"].cast<double>() : 0.1;
+  return b;
+}
+
+py::dict blade_dict(const BladePreset& b) {
+  py::dict d;
+  d["name"] = b.name;
+  d["description"] = b.description;
+  d["thickness"] = b.thickness;
+  d["clearance"] = b.clearance;
+  return d;
+}
+
 py::dict plane_dict(const PlanPlane& p) {
   const auto value = [](const std::optional<double>& v) {
     return v ? py::object(py::float_(*v)) : py::object(py::none());
@@ -171,14 +190,8 @@ void bind_plan(py::module_& m) {
       "blade_presets",
       [](const std::optional<std::string>& path) {
         py::list out;
-        for (const BladePreset& b : path ? read_blade_presets(*path) : default_blade_presets()) {
-          py::dict d;
-          d["name"] = b.name;
-          d["description"] = b.description;
-          d["thickness"] = b.thickness;
-          d["clearance"] = b.clearance;
-          out.append(d);
-        }
+        for (const BladePreset& b : path ? read_blade_presets(*path) : default_blade_presets())
+          out.append(blade_dict(b));
         return out;
       },
       py::arg("path") = py::none(),
@@ -192,6 +205,16 @@ void bind_plan(py::module_& m) {
       py::arg("axis"), py::arg("preset") = py::none(),
       "A tube (case-file keys) from a plan axis, sizes the plan lacks taken from `preset`; ValueError naming the "
       "axis when a size is missing or impossible.");
+  m.def(
+      "find_blade_preset",
+      [](const py::list& blades, const std::string& name) {
+        std::vector<BladePreset> catalogue;
+        for (const py::handle b : blades) catalogue.push_back(to_blade(py::reinterpret_borrow<py::dict>(b)));
+        return blade_dict(find_blade_preset(catalogue, name));
+      },
+      py::arg("blades"), py::arg("name"),
+      "The blade called `name` (exact, then ignoring case) in a list of blade_presets' dicts; ValueError listing "
+      "the names when there is none.");
   m.def(
       "find_sleeve_preset",
       [](const py::list& presets, const std::string& name) {
@@ -209,13 +232,7 @@ void bind_plan(py::module_& m) {
          std::optional<double> slot_length) {
         CaseFile out = to_case(c);
         SlotSizes slot_sizes;
-        if (blade) {
-          BladePreset b;
-          b.name = (*blade).contains("name") ? py::str((*blade)["name"]).cast<std::string>() : "blade";
-          b.thickness = (*blade)["thickness"].cast<double>();
-          b.clearance = (*blade).contains("clearance") ? (*blade)["clearance"].cast<double>() : 0.1;
-          slot_sizes.blade = b;
-        }
+        if (blade) slot_sizes.blade = to_blade(*blade);
         slot_sizes.length = slot_length;
         const std::vector<std::string> warnings = apply_plan(
             out, read_plan(plan_path, to_space(space)), preset ? std::optional(to_preset(*preset)) : std::nullopt,

@@ -197,13 +197,7 @@ inline SlotSpec to_slot(const py::handle& item, const std::string& where) {
     }
   }
   if (const auto problem = slot_problem(s)) throw InvalidInput(where + "." + problem->key + ": " + problem->reason);
-  if (s.auto_direction) {
-    s.normal.normalize();
-    return s;
-  }
-  const SlotFrame f = slot_frame(s);
-  s.normal = f.n;
-  s.direction = f.d;
+  normalise_slot(s);
   return s;
 }
 

@@ -1,6 +1,19 @@
-"""What the GUI sessions share: acting on FreeCAD's window as a user does."""
+"""What the GUI sessions share: acting on FreeCAD's window as a user does, and ending a session."""
+import json
+
+import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
+
+
+def finish(path, result):
+    """Writes the session's result, closes its documents unsaved (closing the window would ask to save
+    changed ones) and then the window."""
+    with open(path, "w") as f:
+        json.dump(result, f, indent=1)
+    for name in list(App.listDocuments()):
+        App.closeDocument(name)
+    QtCore.QTimer.singleShot(0, Gui.getMainWindow().close)
 
 
 def tree_double_click(doc, obj):

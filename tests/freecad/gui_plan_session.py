@@ -4,14 +4,17 @@ in the tube panel from a sleeve preset with the direction from a second clicked 
 view; then the script FreeCAD recorded for all that (the lines its macro recorder writes, echoed in
 the Python console) is replayed into fresh documents and must give the same tree.
 Writes $ST_OUT/gui-plan-result.json; test_gui_plan.py asserts on it."""
-import json
 import os
+import sys
 import time
 import traceback
 
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gui_helpers import finish  # noqa: E402
 
 out, examples = os.environ["ST_OUT"], os.environ["ST_EXAMPLES_DIR"]
 result = {"errors": []}
@@ -252,11 +255,7 @@ def work():
     except Exception:
         result["errors"].append(traceback.format_exc())
     finally:
-        with open(os.path.join(out, "gui-plan-result.json"), "w") as f:
-            json.dump(result, f, indent=1)
-        for name in list(App.listDocuments()):
-            App.closeDocument(name)
-        QtCore.QTimer.singleShot(0, Gui.getMainWindow().close)
+        finish(os.path.join(out, "gui-plan-result.json"), result)
 
 
 QtCore.QTimer.singleShot(500, work)

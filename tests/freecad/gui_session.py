@@ -11,7 +11,7 @@ import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_helpers import tree_double_click  # noqa: E402
+from gui_helpers import finish, tree_double_click  # noqa: E402
 
 out, case_path = os.environ["ST_OUT"], os.environ["ST_CASE"]
 result = {"errors": []}
@@ -144,11 +144,7 @@ def work():
     except Exception:
         result["errors"].append(traceback.format_exc())
     finally:
-        with open(os.path.join(out, "gui-result.json"), "w") as f:
-            json.dump(result, f, indent=1)
-        for name in list(App.listDocuments()):
-            App.closeDocument(name)
-        QtCore.QTimer.singleShot(0, Gui.getMainWindow().close)
+        finish(os.path.join(out, "gui-result.json"), result)
 
 
 def to_qt(view, position):

@@ -2,7 +2,6 @@
 with the workbench's view providers (icons, the tree nested, shell and tubes hidden under the guide);
 deleting the guide shows them again and undo brings the guide back; the workbench's file types are
 registered. Writes $ST_OUT/native-result.json."""
-import json
 import os
 import sys
 import traceback
@@ -12,7 +11,7 @@ import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_helpers import tree_context_menu, tree_double_click  # noqa: E402
+from gui_helpers import finish, tree_context_menu, tree_double_click  # noqa: E402
 
 out, document = os.environ["ST_OUT"], os.environ["ST_DOC"]
 result = {"errors": []}
@@ -121,11 +120,7 @@ def work():
     except Exception:
         result["errors"].append(traceback.format_exc())
     finally:
-        with open(os.path.join(out, "native-result.json"), "w") as f:
-            json.dump(result, f, indent=1)
-        for name in list(App.listDocuments()):
-            App.closeDocument(name)  # changed: closing the window would ask to save them
-        Gui.getMainWindow().close()
+        finish(os.path.join(out, "native-result.json"), result)
 
 
 QtCore.QTimer.singleShot(500, work)

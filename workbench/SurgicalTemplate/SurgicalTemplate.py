@@ -9,9 +9,9 @@
 or step by step: make_bone, make_boundary, make_template, make_tube, make_guide (alias make_final); a
 cutting guide's saw slots and labels: add_slot, add_label.
 Plans from planning software: load_plan (3D Slicer markups, CSV of axes or cut planes, case files);
-sleeve sizes and saw blades: sleeve_presets, blade_presets; documentation: make_drawing (TechDraw page, PDF, SVG, drill protocol). Each call is one
-undo step. Lengths are in mm. Kernel failures raise ValueError (bad
-input) or RuntimeError (geometry), naming what and where.
+sleeve sizes and saw blades: sleeve_presets, blade_presets; documentation: make_drawing (TechDraw page,
+PDF, SVG, drill protocol). Each call is one undo step. Lengths are in mm. Kernel failures raise
+ValueError (bad input) or RuntimeError (geometry), naming what and where.
 
 This module is the API's face: the functions live in stmake (making and changing objects),
 stfunctions (finding, inspecting, the sleeve catalogue) and stdrawing (the documentation drawing); the

@@ -57,6 +57,7 @@ def insert(path, docname):
             return st.load_case(path, doc)
         App.setActiveDocument(doc.Name)
         # Cut planes without a blade or length take the preferences' (as Import plan does).
-        p = App.ParamGet("User parameter:BaseApp/Preferences/Mod/SurgicalTemplate")
-        return st.load_plan(path, blade=p.GetFloat("SlotBlade", 0.89), slot_length=p.GetFloat("SlotLength", 16.0))
+        from stfunctions.presets import preferred_slot
+        blade, length = preferred_slot()
+        return st.load_plan(path, blade=blade, slot_length=length)
     return _report(work)

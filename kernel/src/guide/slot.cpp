@@ -53,6 +53,16 @@ SlotFrame slot_frame(const SlotSpec& slot) {
   return f;
 }
 
+void normalise_slot(SlotSpec& slot) {
+  if (slot.auto_direction) {
+    slot.normal.normalize();
+    return;
+  }
+  const SlotFrame f = slot_frame(slot);
+  slot.normal = f.n;
+  slot.direction = f.d;
+}
+
 Vec3 slot_direction(const SlotSpec& slot, const AabbTree& bone) {
   const double radius = kSlotDirectionRadius;
   const auto [sum, area] = bone.area_normal_near(slot.origin, radius);

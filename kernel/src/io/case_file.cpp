@@ -52,13 +52,7 @@ SlotSpec parse_slot(const detail::JsonReader& r, const json& s, std::size_t i, s
     }
   }
   if (const auto problem = slot_problem(slot)) r.fail(key + "." + problem->key, problem->reason);
-  if (slot.auto_direction) {
-    slot.normal.normalize();
-    return slot;
-  }
-  const SlotFrame f = slot_frame(slot);
-  slot.normal = f.n;
-  slot.direction = f.d;
+  normalise_slot(slot);
   return slot;
 }
 

@@ -5,6 +5,7 @@ import FreeCAD as App
 import FreeCADGui as Gui
 
 from stcommands.base import Command
+from stfunctions.presets import preferred_slot
 from stfunctions.query import tree_of
 from sttaskpanels.boundary import BoundaryPanel
 from sttaskpanels.tube import TubePanel
@@ -133,5 +134,5 @@ class AddSlot(_AtPickedPoint):
            "the guide's Slots")
 
     def code(self, guide, origin, look, up, right):
-        return (f"SurgicalTemplate.add_slot({guide}, {origin}, {right}, {look}, blade={preference('SlotBlade', 0.89)}, "
-                f"length={preference('SlotLength', 16.0)})")
+        blade, length = preferred_slot()
+        return f"SurgicalTemplate.add_slot({guide}, {origin}, {right}, {look}, blade={blade}, length={length})"

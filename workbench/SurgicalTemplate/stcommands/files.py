@@ -1,6 +1,7 @@
 """The workbench's file commands: open a case, import a bone or a plan, save the case, export for
-printing (3MF, STL, OBJ) or the sleeves (STEP), make the documentation drawing. Every change is recorded code through the API (SurgicalTemplate.py),
-so the macro recorder writes a script that replays it and each change is one undo step."""
+printing (3MF, STL, OBJ) or the sleeves (STEP), make the documentation drawing. Every change is
+recorded code through the API (SurgicalTemplate.py), so the macro recorder writes a script that replays
+it and each change is one undo step."""
 import os
 
 import FreeCAD as App
@@ -9,9 +10,9 @@ from PySide import QtGui
 
 import st_bridge
 from stcommands.base import Command
-from stfunctions.presets import sleeve_presets
+from stfunctions.presets import preferred_slot, sleeve_presets
 from stfunctions.query import tree_of
-from stutils.gui_utils import preference, ref, run, selected
+from stutils.gui_utils import ref, run, selected
 
 
 class ImportBone(Command):
@@ -92,8 +93,9 @@ def import_plan(path, target, choose_preset):
         if preset is None:
             return False
     # Planes without a blade or a length take the preferences' (as Add saw slot does).
-    blade = preference("SlotBlade", 0.89) if any(p["blade"] is None for p in plan["planes"]) else None
-    length = preference("SlotLength", 16.0) if any(p["length"] is None for p in plan["planes"]) else None
+    blade, length = preferred_slot()
+    blade = blade if any(p["blade"] is None for p in plan["planes"]) else None
+    length = length if any(p["length"] is None for p in plan["planes"]) else None
     target_code = ref(target) if target is not None else "None"
     ok = run("Import plan", f"guide = SurgicalTemplate.load_plan({path!r}, {target_code}, preset={preset!r}, "
                             f"blade={blade!r}, slot_length={length!r})")

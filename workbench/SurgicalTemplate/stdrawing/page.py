@@ -108,7 +108,8 @@ class Builder:
         self.page.DrawingData = self.group.Name
         info = self.info_table((wx1 - m, wy1 - m))
         if self.slots:
-            info = min(info, slot_table(self, self.slots, (wx1 - m, info[1] - m), self.small, _text_width), key=lambda c: c[0])
+            slots = slot_table(self, self.slots, (wx1 - m, info[1] - m), self.small, _text_width)
+            info = min(info, slots, key=lambda c: c[0])  # the views keep left of the wider table
         top = (wx0 + m, ty1 + band + 2 * m, info[0] - 2 * m, wy1 - m)
         self.main_views(top)
         self.details(plan, wx0 + m, ty1 + m + band)

@@ -6,7 +6,6 @@ drawing's tables and its .txt file share.
     print(st.drill_protocol(guide))
 """
 import datetime
-import json
 import math
 
 import numpy as np
@@ -49,19 +48,12 @@ def sleeve_rows(guide):
     return rows
 
 
-def placements(guide):
-    """How the kernel placed the guide's slots at its last recompute, by name (its report's slot entries:
-    width, direction, housing, cut, extent, housing_extent, template_top, ...)."""
-    placed = json.loads(getattr(guide, "PartsReport", "") or "{}")
-    return {p["name"]: p for p in placed.get("slots", [])}
-
-
 def slot_rows(guide):
     """One dict per saw slot of the guide (mm): name, origin, normal (unit), travel (the saw's direction
     in the plane, unit: as planned, else as the kernel laid it), blade, clearance, width (blade + 2 x
     clearance), length, closed (its closed ends), placed (the kernel's placement, or None)."""
     rows = []
-    laid = placements(guide)
+    laid = Guide.placed_of(guide)[0]
     for s in Guide.slots_of(guide):
         n = np.asarray(s["normal"], float)
         n /= np.linalg.norm(n)

@@ -1,6 +1,4 @@
 """The inspection of a guide or template on its bone (inspect), and the thickness map's colours."""
-import json
-
 import FreeCAD as App
 import numpy as np
 
@@ -56,19 +54,19 @@ def parts(guide, V, F):
     says so."""
     k = st_bridge.kernel()
     out = []
-    placed = json.loads(getattr(guide, "PartsReport", "") or "{}")
-    slots, laid = guide.Proxy.slots_of(guide), placed.get("slots", [])
-    for i, slot in enumerate(slots):
-        if i >= len(laid) or laid[i].get("name") != slot.get("name"):
+    laid, labels = guide.Proxy.placed_of(guide)
+    for slot in guide.Proxy.slots_of(guide):
+        placed = laid.get(slot.get("name"))
+        if placed is None:
             out.append({"name": slot.get("name", ""), "check": "blade path", "passed": False,
                         "result": "not checked: recompute the guide"})
             continue
-        b = st_bridge.call(k.check_blade_path, V, F, slot, laid[i])
+        b = st_bridge.call(k.check_blade_path, V, F, slot, placed)
         at = b["blocked_at"]
         out.append({"name": slot["name"], "check": "blade path", "passed": bool(b["free"]),
-                    "result": f"free over {slot['length']:.1f} mm, {laid[i]['width']:.2f} mm wide" if b["free"] else
+                    "result": f"free over {slot['length']:.1f} mm, {placed['width']:.2f} mm wide" if b["free"] else
                     f"BLOCKED near ({at[0]:.2f}, {at[1]:.2f}, {at[2]:.2f})"})
-    for label in placed.get("labels", []):
+    for label in labels:
         wall, clear = label.get("min_wall"), label.get("min_clearance")
         out.append({"name": label["name"], "check": f"{label['mode']} \"{label['text']}\"", "passed": True,
                     "result": f"{label['depth']:.2f} mm deep" + (f", wall under it {wall:.2f} mm" if wall else "") +
@@ -82,8 +80,9 @@ def inspect(obj, show=True, tolerance=0.01):
     the bone, negative inside it), thickness, clearance, removal: None, or {removable, direction,
     blocking: [[x, y, z]], blocked_faces} along the template's InsertionUsed, stability: None, or the
     kernel's analyse_stability of the template's inner surface pressed along it (score, free_motions,
-    worst_motion, press_point, contact_points, ...), parts: a cutting guide's slot and label checks (parts)}. With `show` in the GUI, the facets are coloured
-    by thickness_colour (the thickness map; recomputing the object removes it)."""
+    worst_motion, press_point, contact_points, ...), parts: a cutting guide's slot and label checks
+    (parts)}. With `show` in the GUI, the facets are coloured by thickness_colour (the thickness map;
+    recomputing the object removes it)."""
     kind = kind_of(obj)
     if kind not in ("Guide", "Template"):
         raise ValueError(f"{obj.Label}: only a guide or a template can be inspected")

@@ -23,6 +23,16 @@ def _catalogue(read):
     return list(entries.values())
 
 
+PREFERENCES = "User parameter:BaseApp/Preferences/Mod/SurgicalTemplate"
+
+
+def preferred_slot():
+    """(blade thickness, slot length) in mm for slots whose plan gives none: the preferences' (Edit >
+    Preferences > Surgical Template), 0.89 and 16 by default. Read with or without the GUI."""
+    p = App.ParamGet(PREFERENCES)
+    return p.GetFloat("SlotBlade", 0.89), p.GetFloat("SlotLength", 16.0)
+
+
 def user_presets_path():
     return os.path.join(App.getUserAppDataDir(), "SurgicalTemplate", "sleeve-presets.json")
 
@@ -47,9 +57,4 @@ def blade(name_or_thickness):
         return name_or_thickness
     if isinstance(name_or_thickness, (int, float)):
         return {"name": f"{float(name_or_thickness):g} mm", "thickness": float(name_or_thickness), "clearance": 0.1}
-    name = str(name_or_thickness)
-    blades = blade_presets()
-    for b in blades:
-        if b["name"] == name or b["name"].lower() == name.lower():
-            return b
-    raise ValueError(f"no saw blade '{name}' in the catalogue; there are: {', '.join(b['name'] for b in blades)}")
+    return st_bridge.kernel().find_blade_preset(blade_presets(), str(name_or_thickness))

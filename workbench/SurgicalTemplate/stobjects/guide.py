@@ -72,6 +72,13 @@ class Guide(Feature):
         """The guide's label dicts (case file keys)."""
         return Guide.list_of(obj, "Labels")
 
+    @staticmethod
+    def placed_of(obj):
+        """How the kernel placed the guide's slots and labels at its last recompute: ({slot name: the
+        report's slot entry}, [the report's label entries]); empty before a recompute."""
+        placed = json.loads(getattr(obj, "PartsReport", "") or "{}")
+        return {p["name"]: p for p in placed.get("slots", [])}, placed.get("labels", [])
+
     def execute(self, obj):
         shell = obj.Shell
         if shell is None or shell.Boundary is None or shell.Boundary.Bone is None:

@@ -8,9 +8,8 @@ import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
 import SurgicalTemplate_paths
+from stfunctions.presets import PREFERENCES as PREFS
 from stobjects.base import kind_of
-
-PREFS = "User parameter:BaseApp/Preferences/Mod/SurgicalTemplate"
 
 
 def icon(name):

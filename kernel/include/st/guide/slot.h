@@ -65,6 +65,10 @@ void check_slot(const SlotSpec& slot);
 /// The frame of a checked slot (n normalised; d's component along n removed, then normalised).
 SlotFrame slot_frame(const SlotSpec& slot);
 
+/// A checked slot as readers keep it: its normal unit and, when a travel is planned, the travel unit
+/// and in the plane (slot_frame's n and d); a slot without a travel keeps none.
+void normalise_slot(SlotSpec& slot);
+
 /// The travel of a slot planned without one: in the cut plane, into the bone against the area-weighted
 /// outward normal of the bone within kSlotDirectionRadius of the origin, projected onto the plane.
 /// Throws GeometryError naming the slot when no bone lies there or the plane runs along the surface
