@@ -2,9 +2,14 @@
 
 #include "st/core/closest_point.h"
 #include "st/core/ray_triangle.h"
+#include "detail/parallel.h"
 
 #include <algorithm>
 #include <numeric>
+#include <optional>
+#include <system_error>
+#include <thread>
+#include <utility>
 
 namespace st {
 
@@ -37,13 +42,18 @@ AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces) : mesh_(m
   }
   if (faces_.empty()) return;
   std::vector<Item> items(faces_.size());
-  for (std::size_t i = 0; i < faces_.size(); ++i) {
-    items[i].box = triangle_box(mesh, faces_[i]);
-    items[i].centre = items[i].box.center();
-    items[i].face = faces_[i];
-  }
-  nodes_.reserve(faces_.size() / 2 + 1);
-  build(items, 0, static_cast<Index>(items.size()));
+  detail::parallel_for(items.size(), 8192, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      items[i].box = triangle_box(mesh, faces_[i]);
+      items[i].centre = items[i].box.center();
+      items[i].face = faces_[i];
+    }
+  });
+  const auto n = static_cast<Index>(items.size());
+  nodes_.resize(node_count(n));
+  int spawn = 0; // levels whose two halves are built on two threads
+  while ((2u << spawn) <= detail::thread_count()) ++spawn;
+  build(items, 0, n, 0, spawn);
   face_boxes_.resize(items.size());
   for (std::size_t i = 0; i < items.size(); ++i) {
     faces_[i] = items[i].face;
@@ -51,27 +61,62 @@ AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces) : mesh_(m
   }
 }
 
-Index AabbTree::build(std::vector<Item>& items, Index begin, Index end) {
-  const Index id = static_cast<Index>(nodes_.size());
-  nodes_.emplace_back();
+Index AabbTree::node_count(Index n) {
+  // The ranges at one depth hold s or s + 1 items (a and b of them): the halves of s are s/2 and
+  // s - s/2, those of s + 1 are (s+1)/2 and s + 1 - (s+1)/2, all s/2 or s/2 + 1.
+  Index total = 0;
+  Index s = n;
+  Index a = 1, b = 0;
+  while (a + b > 0) {
+    total += a + b;
+    const Index split_a = s > kLeafSize ? a : 0;
+    const Index split_b = s + 1 > kLeafSize ? b : 0;
+    const bool even = s % 2 == 0;
+    a = even ? 2 * split_a + split_b : split_a;
+    b = even ? split_b : split_a + 2 * split_b;
+    s /= 2;
+  }
+  return total;
+}
+
+Index AabbTree::build(std::vector<Item>& items, Index begin, Index end, Index id, int spawn) {
+  // Nodes in pre-order: the left child follows its parent, the right child follows the left subtree
+  // (node_count of its range), so the layout is the same whichever thread builds which half.
   BoundingBox box;
   for (Index i = begin; i < end; ++i) box.extend(items[i].box);
   nodes_[id].box = box;
-  if (end - begin <= 4) {
+  if (end - begin <= kLeafSize) {
     nodes_[id].begin = begin;
     nodes_[id].end = end;
-    return id;
+    return 1;
   }
   int axis = 0;
   box.size().maxCoeff(&axis);
   const Index mid = begin + (end - begin) / 2;
   std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
                    [axis](const Item& x, const Item& y) { return x.centre[axis] < y.centre[axis]; });
-  const Index left = build(items, begin, mid);
-  const Index right = build(items, mid, end);
+  const Index left = id + 1;
+  Index right = kInvalidIndex;
+  Index count = 0;
+  if (spawn > 0 && end - begin > 16384) {
+    right = left + node_count(mid - begin);
+    count = node_count(end - begin);
+    std::optional<std::thread> other;
+    try {
+      other.emplace([&, right] { build(items, mid, end, right, spawn - 1); });
+    } catch (const std::system_error&) {
+      build(items, mid, end, right, spawn - 1); // no second thread: this one builds both halves
+    }
+    build(items, begin, mid, left, spawn - 1);
+    if (other) other->join();
+  } else {
+    const Index left_count = build(items, begin, mid, left, 0);
+    right = left + left_count;
+    count = 1 + left_count + build(items, mid, end, right, 0);
+  }
   nodes_[id].left = left;
   nodes_[id].right = right;
-  return id;
+  return count;
 }
 
 AabbTree::AreaNormal AabbTree::area_normal_near(const Vec3& p, double radius) const {
@@ -222,6 +267,43 @@ void AabbTree::self_pairs(Index a, Index b, const std::function<void(Index, Inde
 
 void AabbTree::for_each_overlapping_pair(const std::function<void(Index, Index)>& visit) const {
   if (!nodes_.empty()) self_pairs(0, 0, visit);
+}
+
+std::vector<std::pair<Index, Index>> AabbTree::overlapping_pairs() const {
+  if (nodes_.empty()) return {};
+  // The first levels of self_pairs' recursion, expanded into node pairs (tasks), then each task's
+  // pairs on its own thread, gathered in task order.
+  std::vector<std::pair<Index, Index>> tasks{{0, 0}};
+  for (int level = 0; level < 6 && tasks.size() < 256; ++level) {
+    std::vector<std::pair<Index, Index>> next;
+    for (const auto& [a, b] : tasks) {
+      const Node& na = nodes_[a];
+      const Node& nb = nodes_[b];
+      if (a != b && !na.box.overlaps(nb.box)) continue;
+      const bool la = na.left == kInvalidIndex, lb = nb.left == kInvalidIndex;
+      if (la && lb) {
+        next.emplace_back(a, b);
+      } else if (a == b) {
+        next.insert(next.end(), {{na.left, na.left}, {na.right, na.right}, {na.left, na.right}});
+      } else if (lb || (!la && na.box.diagonal() >= nb.box.diagonal())) {
+        next.insert(next.end(), {{na.left, b}, {na.right, b}});
+      } else {
+        next.insert(next.end(), {{a, nb.left}, {a, nb.right}});
+      }
+    }
+    tasks = std::move(next);
+  }
+  std::vector<std::vector<std::pair<Index, Index>>> found(tasks.size());
+  detail::parallel_for(tasks.size(), 1, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      self_pairs(tasks[i].first, tasks[i].second, [&](Index x, Index y) { found[i].emplace_back(x, y); });
+  });
+  std::size_t total = 0;
+  for (const auto& f : found) total += f.size();
+  std::vector<std::pair<Index, Index>> pairs;
+  pairs.reserve(total);
+  for (const auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());
+  return pairs;
 }
 
 void AabbTree::cross_pairs(Index a, const AabbTree& other, Index b,

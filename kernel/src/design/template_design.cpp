@@ -1,4 +1,5 @@
 #include "st/design/template_design.h"
+#include "design/template_shell.h"
 #include "st/guide/sleeve.h"
 
 #include "st/design/blockout.h"
@@ -7,22 +8,17 @@
 
 #include "st/core/aabb_tree.h"
 #include "st/design/cut.h"
-#include "st/design/decimate.h"
 #include "detail/format.h"
 #include "st/core/tolerances.h"
 #include "st/core/errors.h"
-#include "st/design/offset.h"
-#include "st/design/ruled_surface.h"
 #include "st/design/surface_curve.h"
 #include "st/core/topology.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <deque>
 #include <numeric>
 #include <unordered_map>
-#include <unordered_set>
 
 namespace st {
 
@@ -97,53 +93,6 @@ void displace(const MeshTopology& bone, CutResult& region, double distance) {
     if (n.norm() > 0.0) n.normalize();
     region.region.positions[i] += distance * n;
   }
-}
-
-// The region vertex farthest (in edges) from the border: a point well inside the region.
-Index innermost_vertex(const TriangleMesh& mesh, const std::vector<Index>& rim) {
-  const MeshTopology topology(mesh);
-  std::vector<char> seen(mesh.vertex_count(), 0);
-  std::deque<Index> queue;
-  for (Index v : rim) {
-    seen[v] = 1;
-    queue.push_back(v);
-  }
-  Index last = rim.front();
-  while (!queue.empty()) {
-    const Index v = queue.front();
-    queue.pop_front();
-    last = v;
-    for (Index f : topology.faces_of(v))
-      for (Index w : mesh.triangles[f])
-        if (!seen[w]) {
-          seen[w] = 1;
-          queue.push_back(w);
-        }
-  }
-  return last;
-}
-
-// Faces of `mesh` with a corner within about `reach` of a rim vertex or of the centre vertex.
-std::vector<Index> faces_near(const TriangleMesh& mesh, const TriangleMesh& region, const std::vector<Index>& rim,
-                              Index centre, double reach) {
-  auto cell = [reach](const Vec3& p) {
-    const Eigen::Array3d c = (p / reach).array().floor();
-    return (static_cast<std::uint64_t>(static_cast<std::int64_t>(c[0]) & 0x1fffff) << 42) |
-           (static_cast<std::uint64_t>(static_cast<std::int64_t>(c[1]) & 0x1fffff) << 21) |
-           (static_cast<std::uint64_t>(static_cast<std::int64_t>(c[2]) & 0x1fffff));
-  };
-  std::unordered_set<std::uint64_t> cells;
-  auto mark = [&](const Vec3& p) {
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) cells.insert(cell(p + reach * Vec3(dx, dy, dz)));
-  };
-  for (Index v : rim) mark(region.positions[v]);
-  mark(region.positions[centre]);
-  std::vector<Index> faces;
-  for (Index f = 0; f < mesh.face_count(); ++f)
-    if (cells.count(cell(mesh.positions[mesh.triangles[f][0]]))) faces.push_back(f);
-  return faces;
 }
 
 // The undercut of the covered bone along the given direction or the least-undercut one, sampled
@@ -225,7 +174,6 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   if (bone.empty()) throw InvalidInput("bone mesh: no triangles");
 
   TemplateResult result;
-  const double T = options.thickness;
   std::optional<AabbTree> bone_tree;
   // Pins planned by their entry only go into the bone there (pin_direction), decided before any work.
   std::vector<TubeSpec> tubes = options.tubes;
@@ -276,203 +224,80 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   result.inner_rim_points = inner.rim.size();
   result.times.inner_segmentation += seconds_since(t0);
 
-  // 2. Offset of the inner surface.
-  t0 = Clock::now();
-  OffsetOptions offset_options;
-  offset_options.distance = T;
-  // Without an explicit resolution, T / 8: independent of how finely the bone is triangulated, so
-  // a refined scan costs no more here than the coarse one.
-  offset_options.cell_size = options.resolution > 0.0 ? options.resolution : T / 8.0;
-  offset_options.front_only = true;
-  offset_options.max_cells = options.max_field_cells;
-  const OffsetResult offset = offset_surface(inner.region, offset_options);
-  result.resolution = offset.cell_size;
-  result.field_voxels = offset.band_voxels;
-  result.offset_triangles = offset.surface.face_count();
-  result.times.offset = seconds_since(t0);
-
-  // 3. Points for the outer cut: border samples moved along averaged normals onto the offset.
-  t0 = Clock::now();
-  const std::size_t m = inner.rim.size();
-  double rim_length = 0.0;
-  for (std::size_t i = 0; i < m; ++i)
-    rim_length += (inner.region.positions[inner.rim[(i + 1) % m]] - inner.region.positions[inner.rim[i]]).norm();
-  const bool auto_step = options.sampling_step == 0;
-  int step = options.sampling_step;
-  if (auto_step) step = std::max(1, static_cast<int>(std::lround(0.5 * T / (rim_length / static_cast<double>(m)))));
-  step = std::clamp<int>(step, 1, std::max<int>(1, static_cast<int>(m / 3)));
-  const std::vector<Vec3> normals = vertex_normals(inner.region);
-  // Rays start at the rim and at the region's innermost vertex and go at most 3T: index only the
-  // offset triangles near those (a hash grid of cells 3T wide over the start points).
-  const Index centre = innermost_vertex(inner.region, inner.rim);
-  const Vec3& centre_point = inner.region.positions[centre];
-  const AabbTree offset_tree(offset.surface, faces_near(offset.surface, inner.region, inner.rim, centre, 3.0 * T));
-  // Every `step` rim points, a ray along the normal averaged over the step meets the offset.
-  auto project = [&](int step, std::vector<Vec3>& points, std::vector<Index>& faces) {
-    points.clear();
-    faces.clear();
-    const int half = std::max(1, step / 2);
-    for (std::size_t i = 0; i < m; i += static_cast<std::size_t>(step)) {
-      if (m - i < static_cast<std::size_t>(step) / 2 && i != 0) break; // avoid a crowded last sample
-      Vec3 n = Vec3::Zero();
-      for (int k = -half; k <= half; ++k)
-        n += normals[inner.rim[(i + m + static_cast<std::size_t>(k + static_cast<int>(m))) % m]];
-      if (n.squaredNorm() == 0.0) continue;
-      n.normalize();
-      const Vec3& p = inner.region.positions[inner.rim[i]];
-      if (const auto hit = offset_tree.first_hit(p, n, 0.0, 3.0 * T)) {
-        points.push_back(hit->point);
-        faces.push_back(hit->face);
-      } else if (const auto c = offset_tree.closest_point(p + T * n)) {
-        points.push_back(c->point);
-        faces.push_back(c->face);
+  // 2.-5. The shell: offset, outer surface, wall; then the parts. Checked, not trusted: a simplified
+  // outer surface that fails falls back to the surface as contoured, marching cubes to marching
+  // tetrahedra. With parts, the finished guide is checked and the shell only when the guide fails (a
+  // valid guide is what is printed; a broken shell breaks the guide too).
+  const bool parts = !tubes.empty() || !options.slots.empty() || !options.labels.empty();
+  GuideOptions guide_options;
+  guide_options.chordal_tolerance = options.tube_tolerance;
+  guide_options.clearance = options.clearance;
+  guide_options.thickness = options.thickness;
+  guide_options.check_blade_paths = options.check;
+  result.body_inner_faces = inner.region.face_count();
+  std::optional<template_detail::ShellBuild> built;
+  std::optional<GuideResult> guide;
+  auto check = [&](const TriangleMesh& mesh) {
+    const auto t_check = Clock::now();
+    result.solid = check_solid(mesh);
+    result.times.validation += seconds_since(t_check);
+    return result.solid.valid();
+  };
+  // One contouring's shell (and its contoured alternative) with the parts: true when it passed.
+  auto accept = [&](bool tetrahedra) {
+    built = template_detail::build_shell(inner, options, tetrahedra, result);
+    for (int contoured = 0; contoured < (built->contoured ? 2 : 1); ++contoured) {
+      if (contoured) built->shell = std::move(*built->contoured);
+      const TriangleMesh& shell = built->shell.mesh;
+      if (!parts) {
+        if (!options.check || check(shell)) return true;
+        continue;
       }
+      std::optional<GeometryError> failure;
+      try {
+        guide = build_guide(shell, result.body_inner_faces, bone, GuideParts{tubes, options.slots, options.labels},
+                            guide_options);
+        result.times.boolean += guide->seconds;
+        result.times.validation += guide->blade_path_seconds;
+        if (!options.check || check(guide->mesh)) return true;
+        failure.emplace("the guide with its tubes failed its check: " + result.solid.summary());
+      } catch (const GeometryError& e) {
+        failure = e;
+      }
+      if (!options.check || check(shell)) throw *failure; // the parts' doing, not the shell's
+      guide.reset();
     }
+    return false;
   };
-  // A point on the outer sheet above the middle of the inner surface tells the sides apart.
-  const auto above = offset_tree.first_hit(centre_point, normals[centre], 0.0, 3.0 * T);
-  if (!above)
-    throw GeometryError("the offset surface is missing above the inner surface near " + detail::where(centre_point));
-  result.times.outer_points = seconds_since(t0);
-
-  // 4. Outer surface: the offset cut along those points, keeping the side above the inner surface.
-  //    Where the border turns tightly, projected samples can zig-zag and the loop cross itself (the
-  //    paper's reason for a sampling step); with an automatic step, a coarser one is tried then.
-  const MeshTopology offset_topology(offset.surface);
-  CurveOptions outer_curve_options;
-  outer_curve_options.name = "outer cut";
-  CutOptions outer_cut_options;
-  outer_cut_options.inside = above->point;
-  outer_cut_options.inside_face = above->face;
-  std::optional<CutResult> outer;
-  for (int attempt = 0; !outer; ++attempt) {
-    t0 = Clock::now();
-    std::vector<Vec3> outer_points;
-    std::vector<Index> outer_faces;
-    project(step, outer_points, outer_faces);
-    result.times.outer_points += seconds_since(t0);
-    t0 = Clock::now();
-    try {
-      const SurfaceCurve outer_curve =
-          join_surface_points(offset_topology, outer_points, outer_faces, outer_curve_options);
-      outer = cut_region(offset_topology, outer_curve, outer_cut_options);
-      result.outer_curve = outer_curve.polyline;
-    } catch (const CurveCrossesItself& e) {
-      if (!auto_step)
-        throw CurveCrossesItself(std::string(e.what()) + " (try a larger template.sampling_step than " +
-                                 std::to_string(step) + ")");
-      if (attempt >= 3 || 2 * step > static_cast<int>(m / 3)) throw;
-      step *= 2;
-    }
-    result.times.outer_segmentation += seconds_since(t0);
+  if (!accept(false)) {
+    const std::string cubes = result.solid.summary();
+    if (!accept(true))
+      throw GeometryError("the template shell failed its check: " + result.solid.summary() +
+                          " (contoured by cubes: " + cubes + ")");
   }
-  result.sampling_step = step;
-  result.outer_rim_points = outer->rim.size();
-  TriangleMesh contoured_outer; // kept to fall back on if the simplified shell fails its check
-  std::vector<Index> contoured_rim;
-  // The contour has a few small, often sliver, triangles per grid cell: simplify the outer surface
-  // to about the cell size, within a tenth of a cell, keeping its rim exactly (the wall joins it).
-  if (options.simplify_outer) {
-    t0 = Clock::now();
-    DecimateOptions d;
-    d.target_edge_length = 2.0 * offset.cell_size;
-    d.max_error = 0.1 * offset.cell_size;
-    d.keep_border = true;
-    // The rim and its first ring stay as contoured, so the triangles the wall meets keep their shape.
-    d.frozen.assign(outer->region.vertex_count(), 0);
-    for (Index v : outer->rim) d.frozen[v] = 1;
-    for (const Triangle& t : outer->region.triangles)
-      if (d.frozen[t[0]] == 1 || d.frozen[t[1]] == 1 || d.frozen[t[2]] == 1)
-        for (Index v : t) d.frozen[v] = d.frozen[v] ? d.frozen[v] : 2;
-    DecimateResult simpler = decimate(outer->region, d);
-    std::unordered_map<Index, Index> new_index;
-    for (Index v = 0; v < simpler.vertex_source.size(); ++v)
-      if (simpler.vertex_source[v] != kInvalidIndex) new_index.emplace(simpler.vertex_source[v], v);
-    contoured_outer = outer->region;
-    contoured_rim = outer->rim;
-    for (Index& v : outer->rim) v = new_index.at(v);
-    outer->region = std::move(simpler.mesh);
-    result.times.outer_segmentation += seconds_since(t0);
-  }
-
-  // 5. Connection: the ruled wall, and the shell.
-  t0 = Clock::now();
-  std::vector<Vec3> p_loop, q_loop;
-  for (Index v : inner.rim) p_loop.push_back(inner.region.positions[v]);
-  for (Index v : outer->rim) q_loop.push_back(outer->region.positions[v]);
-  // The wall uses loop positions 0..m-1 / 0..n-1, mapped to shell vertices when assembling.
-  const RuledResult wall = ruled_surface(p_loop, q_loop, 0, static_cast<Index>(m));
-  result.wall_triangles = wall.triangles.size();
-  auto assemble = [&](const TriangleMesh& outer_region, const std::vector<Index>& outer_rim) {
-    const Index n_inner = inner.region.vertex_count();
-    TriangleMesh shell;
-    shell.positions = inner.region.positions;
-    shell.positions.insert(shell.positions.end(), outer_region.positions.begin(), outer_region.positions.end());
-    for (const Triangle& t : inner.region.triangles) shell.triangles.push_back({t[0], t[2], t[1]});
-    for (const Triangle& t : outer_region.triangles)
-      shell.triangles.push_back({t[0] + n_inner, t[1] + n_inner, t[2] + n_inner});
-    for (const Triangle& t : wall.triangles) {
-      Triangle s{};
-      for (int k = 0; k < 3; ++k) s[k] = t[k] < m ? inner.rim[t[k]] : outer_rim[t[k] - m] + n_inner;
-      shell.triangles.push_back(s);
-    }
-    // STL stores float32: round now, so that the shell checked is the one a file will hold.
-    for (Vec3& p : shell.positions) p = p.cast<float>().cast<double>();
-    return shell;
-  };
-  result.shell = assemble(outer->region, outer->rim);
-  result.times.connection = seconds_since(t0);
+  result.shell = std::move(built->shell.mesh);
   result.times.total = result.times.inner_segmentation + result.times.offset + result.times.outer_points +
                        result.times.outer_segmentation + result.times.connection;
-
-  if (options.check) {
-    t0 = Clock::now();
-    result.solid = check_solid(result.shell);
-    if (!result.solid.valid() && !contoured_rim.empty()) {
-      // The simplification is checked, not trusted: fall back to the outer surface as contoured.
-      result.shell = assemble(contoured_outer, contoured_rim);
-      outer->region = std::move(contoured_outer);
-      result.solid = check_solid(result.shell);
-    }
-    if (!result.solid.valid()) throw GeometryError("the template shell failed its check: " + result.solid.summary());
-  }
-  if (options.check) result.times.validation = seconds_since(t0);
-  result.body_inner_faces = inner.region.face_count();
-  if (!tubes.empty() || !options.slots.empty() || !options.labels.empty()) {
-    GuideOptions guide_options;
-    guide_options.chordal_tolerance = options.tube_tolerance;
-    guide_options.clearance = options.clearance;
-    guide_options.thickness = options.thickness;
-    guide_options.check_blade_paths = options.check;
-    GuideResult guide = build_guide(result.shell, result.body_inner_faces, bone,
-                                    GuideParts{tubes, options.slots, options.labels}, guide_options);
-    result.times.boolean = guide.seconds;
-    result.tubes = std::move(guide.tubes);
-    result.slots = std::move(guide.slots);
-    result.labels = std::move(guide.labels);
-    result.blade_paths = std::move(guide.blade_paths);
-    result.perturbed_operations = guide.perturbed_operations;
-    result.max_perturbation = guide.max_perturbation;
-    result.curve_tolerance = guide.curve_tolerance;
-    result.fragments_dropped = guide.fragments_dropped;
-    result.from_tube = std::move(guide.from_tube);
-    result.columns = std::move(guide.columns);
-    result.bores = std::move(guide.bores);
+  if (guide) {
+    result.tubes = std::move(guide->tubes);
+    result.slots = std::move(guide->slots);
+    result.labels = std::move(guide->labels);
+    result.blade_paths = std::move(guide->blade_paths);
+    result.perturbed_operations = guide->perturbed_operations;
+    result.max_perturbation = guide->max_perturbation;
+    result.curve_tolerance = guide->curve_tolerance;
+    result.fragments_dropped = guide->fragments_dropped;
+    result.from_tube = std::move(guide->from_tube);
+    result.columns = std::move(guide->columns);
+    result.bores = std::move(guide->bores);
     result.body = std::move(result.shell);
-    result.shell = std::move(guide.mesh);
-    if (options.check) {
-      t0 = Clock::now();
-      result.solid = check_solid(result.shell);
-      if (!result.solid.valid())
-        throw GeometryError("the guide with its tubes failed its check: " + result.solid.summary());
-      result.times.validation += seconds_since(t0) + guide.blade_path_seconds;
-    }
+    result.shell = std::move(guide->mesh);
   } else {
     result.body = result.shell;
     result.from_tube.assign(result.shell.face_count(), 0);
   }
   result.inner = std::move(inner.region);
-  result.outer = std::move(outer->region);
+  result.outer = std::move(built->shell.outer);
   if (options.analyse_insertion && options.check) {
     t0 = Clock::now();
     InsertionReport& ins = result.insertion;
@@ -505,7 +330,8 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     rim.min = std::numeric_limits<double>::infinity();
     double sum = 0.0;
     const auto& poly = curve.polyline;
-    for (const Vec3& p : p_loop) {
+    for (const Index v : inner.rim) {
+      const Vec3& p = result.inner.positions[v]; // the inner region, moved there
       // The curve lies on the bone, so the expected distance is the clearance.
       double best = std::numeric_limits<double>::infinity();
       for (std::size_t i = 0; i < poly.size(); ++i)
@@ -514,7 +340,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
       rim.max = std::max(rim.max, best);
       sum += best;
     }
-    rim.count = p_loop.size();
+    rim.count = inner.rim.size();
     rim.mean = rim.count ? sum / static_cast<double>(rim.count) : 0.0;
     result.fit.rim_to_curve = rim;
     result.times.validation += seconds_since(t0);

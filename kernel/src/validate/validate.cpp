@@ -126,8 +126,7 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
     // The candidate pairs (overlapping boxes) from the tree, then the exact tests on all threads; what
     // is found is gathered per chunk, in pair order, so the report does not depend on the threads.
     const AabbTree tree(mesh);
-    std::vector<std::pair<Index, Index>> pairs;
-    tree.for_each_overlapping_pair([&](Index a, Index b) { pairs.emplace_back(a, b); });
+    const std::vector<std::pair<Index, Index>> pairs = tree.overlapping_pairs();
     constexpr std::size_t kGrain = 4096;
     std::vector<std::vector<Index>> found((pairs.size() + kGrain - 1) / kGrain);
     detail::parallel_for(pairs.size(), kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {

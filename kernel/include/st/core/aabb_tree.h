@@ -8,6 +8,7 @@
 
 #include <functional>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace st {
@@ -53,6 +54,10 @@ public:
   /// Calls visit(fa, fb) once for every pair of distinct triangles of this tree whose boxes overlap.
   void for_each_overlapping_pair(const std::function<void(Index, Index)>& visit) const;
 
+  /// The pairs for_each_overlapping_pair visits, found on all threads; the same pairs in the same
+  /// order whatever the number of threads.
+  [[nodiscard]] std::vector<std::pair<Index, Index>> overlapping_pairs() const;
+
   /// Calls visit(fa, fb) for every triangle fa of this tree and fb of `other` whose boxes overlap.
   void for_each_overlapping_pair(const AabbTree& other, const std::function<void(Index, Index)>& visit) const;
 
@@ -77,7 +82,12 @@ private:
     Vec3 centre;
     Index face;
   };
-  Index build(std::vector<Item>& items, Index begin, Index end);
+  static constexpr Index kLeafSize = 4;
+  /// Nodes of the tree over n >= 1 items.
+  static Index node_count(Index n);
+  /// Fills the subtree of items [begin, end) from node `id` on, its two halves on two threads for
+  /// `spawn` more levels; returns its node count.
+  Index build(std::vector<Item>& items, Index begin, Index end, Index id, int spawn);
   /// Calls leaf(face) for the triangles in the nodes whose boxes, grown by `pad`, the ray meets for t
   /// in [t_min, t_max] (t_max read at every node: a leaf may shorten it), until leaf returns true;
   /// returns whether it did. Defined in aabb_tree.cpp, used there only.

@@ -16,12 +16,21 @@
 //     Layers of 26-neighbours reach some nodes first from the wrong part of the patch (where two
 //     parts are about equally far); a node whose stored distance exceeds its distance to a
 //     neighbour's closest point is evaluated again, and so on from it (see "Accuracy").
-//  4. Marching tetrahedra on the Freudenthal (Kuhn) split of each grid cube into 6 tetrahedra along
-//     its main diagonal; only cubes whose 8 nodes were computed are contoured. The contour of a
-//     piecewise-linear field over a triangulation is an embedded 2-manifold: no self-intersections
-//     and no edge used by more than two triangles. Node values closer than tol::kIsoValueMargin * h
-//     to T are moved to T + tol::kIsoValueMargin * h, so no contour vertex sits on a node. Each
-//     crossed grid edge gives exactly one vertex, so the output is welded.
+//  4. Contouring of the cubes whose 8 nodes were computed. Node values closer than
+//     tol::kIsoValueMargin * h to T are moved to T + tol::kIsoValueMargin * h, so no contour vertex
+//     sits on a node. Each crossed grid edge gives exactly one vertex, so the output is welded.
+//     Marching cubes (default): each cube's contour is the set of polygons whose sides are its
+//     segments on the cube's faces; a face with two corners below on a diagonal joins them or not as
+//     the bilinear interpolant of its four values does (asymptotic decider), decided from the same
+//     numbers by the two cubes sharing the face, so the contour is a welded 2-manifold. Polygons of
+//     more than four sides are triangulated without new vertices, best worst triangle first. About
+//     two triangles per crossed cube; not certified free of self-intersections (a skew polygon's
+//     triangles can, rarely, meet another sheet in the same cube): the template's check decides and
+//     falls back to tetrahedra.
+//     Marching tetrahedra (`tetrahedra`): the Freudenthal (Kuhn) split of each cube into 6
+//     tetrahedra along its main diagonal. The contour of a piecewise-linear field over a
+//     triangulation is an embedded 2-manifold: no self-intersections and no edge used by more than
+//     two triangles; about three times as many triangles as the cubes, some of them slivers.
 //
 // Accuracy. Node values are exact within 1.5 h of the patch; beyond, they are the distance to the
 // nearest triangle found by propagation, an upper bound of the true distance that equals it except
@@ -29,7 +38,6 @@
 // meshes: up to about 0.1 h, at a few nodes). Contour vertices lie at distance T up to the linear
 // interpolation error: O(h^2 / T) on rounded parts, zero on flat parts, and up to about h/2 (rarely
 // more) at the concave creases of the offset, where the offsets of two parts of the patch meet.
-// Marching tetrahedra makes a few triangles per grid cube, some of them slivers.
 
 #include "st/core/mesh.h"
 #include "st/core/tolerances.h"
@@ -55,6 +63,9 @@ struct OffsetOptions {
   /// the rim (connected components without a vertex in front of the patch) are removed.
   /// false: the whole offset, both sides and the rim: a closed 2-manifold.
   bool front_only = true;
+  /// false: marching cubes (fewer, better triangles); true: marching tetrahedra (certified free of
+  /// self-intersections). See step 4 above.
+  bool tetrahedra = false;
   /// Refuse (InvalidInput, before allocating) when the estimated number of band nodes exceeds this.
   double max_cells = tol::kMaxFieldCells;
 };

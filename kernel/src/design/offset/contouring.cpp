@@ -1,4 +1,4 @@
-// Marching tetrahedra on the distance band's contoured cubes.
+// Marching cubes (polygons by faces) or marching tetrahedra on the distance band's contoured cubes.
 
 #include "design/offset/distance_band.h"
 
@@ -73,6 +73,140 @@ constexpr std::array<TetCase, 16> make_tet_cases() {
 }
 
 constexpr std::array<TetCase, 16> kTetCases = make_tet_cases();
+
+// ---- marching cubes by faces -------------------------------------------------------------------------
+// The faces of a cube, corners counter-clockwise seen from outside. Faces 2a and 2a+1 are x_a = 0 and
+// x_a = 1. Each is the canonical order (0,0), (1,0), (1,1), (0,1) over the next two axes (a+1, a+2),
+// reversed on the x_a = 0 side; either way corners 0 and 2 are diagonal, as are 1 and 3.
+constexpr std::array<std::array<int, 4>, 6> kCubeFaces = {{
+    {0, 4, 6, 2},
+    {1, 3, 7, 5},
+    {0, 1, 5, 4},
+    {2, 6, 7, 3},
+    {0, 2, 3, 1},
+    {4, 5, 7, 6},
+}};
+
+/// A polygon of one cube's contour: the crossed cube edges in cyclic order, each as (corner a, corner b).
+struct CubePolygon {
+  int count = 0;
+  std::array<std::array<int, 2>, 12> edges{};
+};
+
+/// The contour of one cube whose corner c has the value below the iso value when bit c of `below` is
+/// set (`f` the corner values less the iso value): polygons whose sides are the contour's segments on
+/// the cube's faces, oriented like the tetrahedra's (normals toward the corners above).
+///
+/// On a face, walking its corners counter-clockwise seen from outside, a crossed edge is an entry (from
+/// above to below) or an exit; each segment runs from an entry to an exit. A face with four crossings
+/// (diagonal corners below) joins either its corners below or those above; the bilinear interpolant
+/// of the four values decides (the asymptotic decider: below joined when its saddle value is below
+/// the iso value). The decision reads the face's values as f0 f2 - f1 f3, which both cubes sharing the
+/// face compute bit-identically (products commute), so neighbours always agree and the contour is
+/// welded and 2-manifold across faces. Each crossing is an entry on one of its two faces and an exit
+/// on the other, so the segments close into cycles.
+int cube_polygons(int below, const std::array<double, 8>& f, std::array<CubePolygon, 4>& out) {
+  std::array<std::int8_t, 64> next; // [8 * lower corner + direction]: the next crossing of the cycle
+  next.fill(-1);
+  auto key = [](int a, int b) { return 8 * (a & b) + (a ^ b); };
+  for (const std::array<int, 4>& q : kCubeFaces) {
+    int entries[2];
+    int exits[2];
+    int n_entries = 0;
+    int n_exits = 0;
+    for (int k = 0; k < 4; ++k) {
+      const bool here = ((below >> q[k]) & 1) != 0;
+      const bool there = ((below >> q[(k + 1) & 3]) & 1) != 0;
+      if (here && !there) exits[n_exits++] = k;
+      if (!here && there) entries[n_entries++] = k;
+    }
+    if (n_entries == 1) {
+      next[key(q[entries[0]], q[(entries[0] + 1) & 3])] =
+          static_cast<std::int8_t>(key(q[exits[0]], q[(exits[0] + 1) & 3]));
+    } else if (n_entries == 2) {
+      const double saddle = f[q[0]] * f[q[2]] - f[q[1]] * f[q[3]];
+      const bool corner0_below = ((below >> q[0]) & 1) != 0;
+      const bool joined_below = corner0_below ? saddle > 0.0 : saddle < 0.0;
+      for (const int e : entries) {
+        const int x = joined_below ? (e + 3) & 3 : (e + 1) & 3;
+        next[key(q[e], q[(e + 1) & 3])] = static_cast<std::int8_t>(key(q[x], q[(x + 1) & 3]));
+      }
+    }
+  }
+  int polygons = 0;
+  for (int start = 0; start < 64; ++start) {
+    if (next[start] < 0) continue;
+    CubePolygon& p = out[polygons++];
+    p.count = 0;
+    for (int k = start; next[k] >= 0;) {
+      const int lower = k >> 3;
+      p.edges[p.count++] = {lower, lower | (k & 7)};
+      const int n = next[k];
+      next[k] = -1;
+      k = n;
+    }
+  }
+  return polygons;
+}
+
+/// Triangle quality 4 sqrt(3) area / (sum of squared edge lengths), negative when the triangle faces
+/// against `normal`.
+double facing_quality(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& normal) {
+  const Vec3 n = (b - a).cross(c - a);
+  const double edges = (b - a).squaredNorm() + (c - b).squaredNorm() + (a - c).squaredNorm();
+  if (!(n.dot(normal) > 0.0) || !(edges > 0.0)) return -1.0;
+  return 2.0 * std::numbers::sqrt3 * n.norm() / edges;
+}
+
+/// Triangulates the cycle `v` (positions from `positions`, n >= 3) without new vertices, keeping its
+/// orientation: the triangulation whose worst triangle is best (quality, against the polygon's Newell
+/// normal), by dynamic programming over its diagonals.
+void triangulate_cycle(const std::array<Index, 12>& v, int n, const std::vector<Vec3>& positions,
+                       std::vector<Triangle>& out) {
+  if (n == 3) {
+    out.push_back({v[0], v[1], v[2]});
+    return;
+  }
+  if (n == 4) {
+    // A quadrilateral: split along the shorter diagonal.
+    if ((positions[v[0]] - positions[v[2]]).squaredNorm() <= (positions[v[1]] - positions[v[3]]).squaredNorm()) {
+      out.push_back({v[0], v[1], v[2]});
+      out.push_back({v[0], v[2], v[3]});
+    } else {
+      out.push_back({v[0], v[1], v[3]});
+      out.push_back({v[1], v[2], v[3]});
+    }
+    return;
+  }
+  Vec3 normal = Vec3::Zero();
+  for (int i = 0; i < n; ++i) normal += positions[v[i]].cross(positions[v[(i + 1) % n]]);
+  std::array<std::array<double, 12>, 12> best{};
+  std::array<std::array<std::int8_t, 12>, 12> split{};
+  for (int len = 2; len < n; ++len)
+    for (int i = 0; i + len < n; ++i) {
+      const int j = i + len;
+      best[i][j] = -std::numeric_limits<double>::infinity();
+      for (int k = i + 1; k < j; ++k) {
+        double q = facing_quality(positions[v[i]], positions[v[k]], positions[v[j]], normal);
+        if (k - i > 1) q = std::min(q, best[i][k]);
+        if (j - k > 1) q = std::min(q, best[k][j]);
+        if (q > best[i][j]) {
+          best[i][j] = q;
+          split[i][j] = static_cast<std::int8_t>(k);
+        }
+      }
+    }
+  std::array<std::array<int, 2>, 12> stack{};
+  int top = 0;
+  stack[top++] = {0, n - 1};
+  while (top > 0) {
+    const auto [i, j] = stack[--top];
+    const int k = split[i][j];
+    out.push_back({v[i], v[k], v[j]});
+    if (k - i > 1) stack[top++] = {i, k};
+    if (j - k > 1) stack[top++] = {k, j};
+  }
+}
 
 } // namespace
 
@@ -159,7 +293,10 @@ Contour DistanceBand::contour() const {
         }
         out.contoured[s] = all_computed & any_anchoring;
         out.crossed_cubes[s] = out.contoured[s] & any_below & ~all_below;
-        for (int d = 1; d < 8; ++d) out.crossed_edges[d - 1][s] = comp[0] & comp[d] & (low[0] ^ low[d]);
+        for (int d = 1; d < 8; ++d)
+          out.crossed_edges[d - 1][s] = p_.tetrahedra || std::has_single_bit(static_cast<unsigned>(d))
+                                            ? comp[0] & comp[d] & (low[0] ^ low[d])
+                                            : 0;
       }
       Index count = 0;
       for (int d = 0; d < 7; ++d)
@@ -247,17 +384,31 @@ Contour DistanceBand::contour() const {
           const int ly = bit >> 3;
           const int lz = s;
           int below_mask = 0;
-          for (int c = 0; c < 8; ++c)
-            below_mask |= (node_value(blk, lx + (c & 1), ly + ((c >> 1) & 1), lz + (c >> 2)) < iso ? 1 : 0) << c;
+          std::array<double, 8> f{};
+          for (int c = 0; c < 8; ++c) {
+            f[c] = node_value(blk, lx + (c & 1), ly + ((c >> 1) & 1), lz + (c >> 2)) - iso;
+            below_mask |= (f[c] < 0.0 ? 1 : 0) << c;
+          }
           std::array<Index, 64> cache; // [lower corner * 8 + direction]
           cache.fill(kInvalidIndex);
           auto vertex = [&](int ca, int cb) {
-            const int lower = ca & cb; // Kuhn edges join nested corners
+            const int lower = ca & cb; // Kuhn edges and cube edges join nested corners
             Index& v = cache[8 * lower + (ca ^ cb)];
             if (v == kInvalidIndex)
               v = vertex_of(blk, lx + (lower & 1), ly + ((lower >> 1) & 1), lz + (lower >> 2), ca ^ cb);
             return v;
           };
+          if (!p_.tetrahedra) {
+            std::array<CubePolygon, 4> polygons;
+            const int count = cube_polygons(below_mask, f, polygons);
+            for (int k = 0; k < count; ++k) {
+              std::array<Index, 12> v{};
+              for (int i = 0; i < polygons[k].count; ++i)
+                v[i] = vertex(polygons[k].edges[i][0], polygons[k].edges[i][1]);
+              triangulate_cycle(v, polygons[k].count, mesh.positions, tris);
+            }
+            continue;
+          }
           for (const std::array<int, 4>& tet : kCubeTets) {
             int mask = 0;
             for (int k = 0; k < 4; ++k) mask |= ((below_mask >> tet[k]) & 1) << k;

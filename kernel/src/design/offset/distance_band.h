@@ -1,7 +1,7 @@
 #pragma once
 // The narrow band of distances around the patch (private to offset_surface, st/design/offset.h):
-// exact distances near the patch, closest-point propagation outwards, marching tetrahedra on the
-// contoured cubes (contouring.cpp), and the clean-up of the contour (contour_repair.cpp).
+// exact distances near the patch, closest-point propagation outwards, marching cubes or tetrahedra
+// on the contoured cubes (contouring.cpp), and the clean-up of the contour (contour_repair.cpp).
 
 #include "design/offset/patch.h"
 #include "design/offset/sparse_grid.h"
@@ -32,7 +32,8 @@ struct BandParams {
   double seed_radius = 1.0; // exact distances within this radius of each triangle
   double margin = 0.0;      // front_only: how far behind the border a node may lie and anchor
   bool front_only = true;
-  double node_cap = 0.0; // refuse to allocate more block nodes than this
+  bool tetrahedra = false; // marching tetrahedra instead of cubes
+  double node_cap = 0.0;   // refuse to allocate more block nodes than this
   std::size_t expected_nodes = 0;
 };
 
@@ -54,7 +55,7 @@ public:
   void seed();
   /// Closest-point propagation, one layer of 26-neighbours at a time, up to the limit.
   void grow();
-  /// Marching tetrahedra on the contoured cubes.
+  /// Marching cubes (or tetrahedra) on the contoured cubes.
   [[nodiscard]] Contour contour() const;
   [[nodiscard]] std::size_t computed_nodes() const { return computed_nodes_; }
 

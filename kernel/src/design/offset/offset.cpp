@@ -105,6 +105,7 @@ OffsetResult offset_surface(const TriangleMesh& surface, const OffsetOptions& op
   params.seed_radius = 1.5 * h;
   params.margin = front_margin(distance, h);
   params.front_only = options.front_only;
+  params.tetrahedra = options.tetrahedra;
   params.node_cap = 4.0 * options.max_cells;
   params.expected_nodes = static_cast<std::size_t>(expected);
 
