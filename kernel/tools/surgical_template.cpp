@@ -30,6 +30,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -64,7 +65,12 @@ constexpr const char* kUsage =
     "  surgical-template check MESH\n"
     "      report whether a mesh is a closed, 2-manifold, oriented solid without self-intersections\n";
 
+// The process's own peak: VmHWM of its address space (getrusage's ru_maxrss starts from the parent's
+// resident size at fork, so a tool started by a large process, FreeCAD or a benchmark, reported that).
 double peak_memory_mb() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmHWM:", 0) == 0) return std::strtod(line.c_str() + 6, nullptr) / 1024.0;
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return static_cast<double>(usage.ru_maxrss) / 1024.0;

@@ -239,6 +239,25 @@ void AabbTree::for_each_in_box(const BoundingBox& box, const std::function<void(
   }
 }
 
+bool AabbTree::any_in_box(const BoundingBox& box) const {
+  if (nodes_.empty()) return false;
+  Index stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[stack[--top]];
+    if (!n.box.overlaps(box)) continue;
+    if (n.left == kInvalidIndex) {
+      for (Index i = n.begin; i < n.end; ++i)
+        if (face_boxes_[i].overlaps(box)) return true;
+      continue;
+    }
+    stack[top++] = n.left;
+    stack[top++] = n.right;
+  }
+  return false;
+}
+
 void AabbTree::self_pairs(Index a, Index b, const std::function<void(Index, Index)>& visit) const {
   const Node& na = nodes_[a];
   const Node& nb = nodes_[b];

@@ -33,15 +33,26 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Faces of `mesh` whose box meets the box around the tube's axis between heights z0 and z1.
+// Faces of `mesh` that may come within `radius` of the tube's axis between heights z0 and z1: their
+// box meets the segment's box, and the ball around their box meets the segment grown by the radius
+// (a long tilted axis has a large box; the ball test keeps the faces near the axis only).
 std::vector<Index> faces_around(const TriangleMesh& mesh, const TubeSpec& tube, double radius, double z0, double z1) {
+  const Vec3 a = tube_point(tube, z0), b = tube_point(tube, z1);
   BoundingBox box;
-  box.extend(tube_point(tube, z0));
-  box.extend(tube_point(tube, z1));
+  box.extend(a);
+  box.extend(b);
   box = box.inflated(radius);
+  const Vec3 ab = b - a;
+  const double length2 = ab.squaredNorm();
   std::vector<Index> faces;
-  for (Index f = 0; f < mesh.face_count(); ++f)
-    if (triangle_box(mesh, f).overlaps(box)) faces.push_back(f);
+  for (Index f = 0; f < mesh.face_count(); ++f) {
+    const BoundingBox fb = triangle_box(mesh, f);
+    if (!fb.overlaps(box)) continue;
+    const Vec3 c = fb.center();
+    const double t = length2 > 0.0 ? std::clamp((c - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+    const double reach = radius + 0.5 * fb.size().norm();
+    if ((c - (a + t * ab)).squaredNorm() <= reach * reach) faces.push_back(f);
+  }
   return faces;
 }
 

@@ -90,9 +90,26 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
   }
   auto bone_corner = [&](Index f, int k) -> const Vec3& { return b_at[bmesh.triangles[f][k]]; };
 
+  // Box culling: a guide face whose box, swept by L off the bone and grown by the lifts, meets no
+  // bone triangle's box cannot meet the bone on the way off, nor can its corners and edges (their
+  // paths lie in that box; an edge's in the swept box of each of its two faces). Only the corners and
+  // edges of the faces that pass are tested exactly, and only bone faces whose boxes, swept by L
+  // towards the guide, meet a guide triangle's box give bone vertices to test.
+  const double pad = 4.0 * lift;
+  auto swept = [&](BoundingBox b, const Vec3& by) {
+    b.extend(b.min + by);
+    b.extend(b.max + by);
+    return b.inflated(pad);
+  };
+  std::vector<std::uint8_t> near_guide(guide.face_count(), 0);
+  detail::parallel_for(guide.face_count(), 1024, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f)
+      near_guide[f] = bone.any_in_box(swept(triangle_box(guide, static_cast<Index>(f)), L * w)) ? 1 : 0;
+  });
   std::vector<Index> first_face(guide.vertex_count(), kInvalidIndex);
   for (Index f = 0; f < guide.face_count(); ++f)
-    for (Index v : guide.triangles[f]) first_face[v] = f;
+    if (near_guide[f])
+      for (Index v : guide.triangles[f]) first_face[v] = f;
 
   Collector collector;
   // 1. Guide vertices along -d against the bone.
@@ -111,12 +128,19 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
   BoundingBox reach = gbox;
   reach.extend(gbox.min - L * d);
   reach.extend(gbox.max - L * d);
-  std::vector<Index> near;
+  std::vector<Index> near_faces;
   reach.min.array() -= 1.0;
   reach.max.array() += 1.0;
-  bone.for_each_in_box(reach, [&](Index f) {
-    for (Index v : bmesh.triangles[f]) near.push_back(v);
+  bone.for_each_in_box(reach, [&](Index f) { near_faces.push_back(f); });
+  std::vector<std::uint8_t> meets(near_faces.size(), 0);
+  detail::parallel_for(near_faces.size(), 1024, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      meets[i] = guide_tree.any_in_box(swept(triangle_box(bmesh, near_faces[i]), L * d)) ? 1 : 0;
   });
+  std::vector<Index> near;
+  for (std::size_t i = 0; i < near_faces.size(); ++i)
+    if (meets[i])
+      for (Index v : bmesh.triangles[near_faces[i]]) near.push_back(v);
   std::sort(near.begin(), near.end());
   near.erase(std::unique(near.begin(), near.end()), near.end());
   // A bone vertex the guide copies (zero clearance, a rim through a bone vertex) touches the guide
@@ -149,6 +173,7 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
   // 3. Bone edges against the parallelograms guide edges sweep (each edge once, from its first face).
   detail::parallel_for(guide.face_count(), 256, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f) {
+      if (!near_guide[f]) continue;
       const Triangle& t = guide.triangles[f];
       for (int k = 0; k < 3; ++k) {
         const Index i0 = t[k], i1 = t[(k + 1) % 3];
@@ -156,6 +181,9 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
         const Vec3 &g0 = g_at[i0], &g1 = g_at[i1];
         const Vec3 h0 = g0 + L * w, h1 = g1 + L * w;
         const Vec3 mid = 0.5 * (g0 + g1);
+        BoundingBox sweep; // of the parallelogram, grown by the lifts: a bone edge outside it misses
+        for (const Vec3* x : {&g0, &g1, &h0, &h1}) sweep.extend(*x);
+        sweep = sweep.inflated(pad);
         Vec3 place = mid;
         const bool hit = bone.any_along(mid, w, L, 0.5 * (g1 - g0).norm() + 2.0 * lift, [&](Index bf) {
           for (int e = 0; e < 3; ++e) {
@@ -166,6 +194,10 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
                 o1 == guide.positions[i1])
               continue;
             const Vec3 &b0 = bone_corner(bf, e), &b1 = bone_corner(bf, (e + 1) % 3);
+            BoundingBox edge;
+            edge.extend(b0);
+            edge.extend(b1);
+            if (!edge.overlaps(sweep)) continue;
             if (!crosses(b0, b1, g0, g1, h1) && !crosses(b0, b1, g0, h1, h0)) continue;
             // Where on the guide edge: the crossing moved back along the path.
             const Vec3 n = (g1 - g0).cross(w);

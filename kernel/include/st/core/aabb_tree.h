@@ -51,6 +51,9 @@ public:
   /// Calls visit(face) for every triangle whose box overlaps `box`.
   void for_each_in_box(const BoundingBox& box, const std::function<void(Index)>& visit) const;
 
+  /// Whether the box of any indexed triangle overlaps `box`.
+  [[nodiscard]] bool any_in_box(const BoundingBox& box) const;
+
   /// Calls visit(fa, fb) once for every pair of distinct triangles of this tree whose boxes overlap.
   void for_each_overlapping_pair(const std::function<void(Index, Index)>& visit) const;
 

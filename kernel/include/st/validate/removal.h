@@ -11,6 +11,10 @@
 //     the guide's triangles;
 //   - every bone edge near a guide edge against the parallelogram that guide edge sweeps (its two
 //     triangles).
+// Boxes cull before the tests: only the corners and edges of guide faces whose box, swept by L off
+// the bone (and grown by the lifts), meets a bone triangle's box; only bone vertices of faces whose box,
+// swept by L towards the guide, meets a guide triangle's box; and a bone edge only when its box meets
+// the box of the parallelogram. A culled feature's path lies outside every box it could meet.
 // A segment crosses a triangle when its ends lie strictly on either side of the triangle's plane
 // (orient3d, not zero) and the line meets the closed triangle (three orient3d of one sign).
 // Contact is not blocking: the bone is first shrunk by a lift along its vertex normals (1 um, or
