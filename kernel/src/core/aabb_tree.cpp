@@ -221,25 +221,7 @@ std::optional<RayHit> AabbTree::first_hit(const Vec3& origin, const Vec3& direct
   return hit;
 }
 
-void AabbTree::for_each_in_box(const BoundingBox& box, const std::function<void(Index)>& visit) const {
-  if (nodes_.empty()) return;
-  Index stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& n = nodes_[stack[--top]];
-    if (!n.box.overlaps(box)) continue;
-    if (n.left == kInvalidIndex) {
-      for (Index i = n.begin; i < n.end; ++i)
-        if (face_boxes_[i].overlaps(box)) visit(faces_[i]);
-      continue;
-    }
-    stack[top++] = n.left;
-    stack[top++] = n.right;
-  }
-}
-
-bool AabbTree::any_in_box(const BoundingBox& box) const {
+template <class Leaf> bool AabbTree::in_box(const BoundingBox& box, Leaf&& leaf) const {
   if (nodes_.empty()) return false;
   Index stack[128];
   int top = 0;
@@ -249,13 +231,24 @@ bool AabbTree::any_in_box(const BoundingBox& box) const {
     if (!n.box.overlaps(box)) continue;
     if (n.left == kInvalidIndex) {
       for (Index i = n.begin; i < n.end; ++i)
-        if (face_boxes_[i].overlaps(box)) return true;
+        if (face_boxes_[i].overlaps(box) && leaf(faces_[i])) return true;
       continue;
     }
     stack[top++] = n.left;
     stack[top++] = n.right;
   }
   return false;
+}
+
+void AabbTree::for_each_in_box(const BoundingBox& box, const std::function<void(Index)>& visit) const {
+  in_box(box, [&](Index f) {
+    visit(f);
+    return false;
+  });
+}
+
+bool AabbTree::any_in_box(const BoundingBox& box) const {
+  return in_box(box, [](Index) { return true; });
 }
 
 void AabbTree::self_pairs(Index a, Index b, const std::function<void(Index, Index)>& visit) const {

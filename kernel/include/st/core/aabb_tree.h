@@ -96,6 +96,9 @@ private:
   /// returns whether it did. Defined in aabb_tree.cpp, used there only.
   template <class Leaf> bool along(const Vec3& origin, const Vec3& direction, double t_min, const double& t_max,
                                    double pad, Leaf&& leaf) const;
+  /// Calls leaf(face) for the triangles whose boxes overlap `box` until it returns true; returns
+  /// whether it did. Defined in aabb_tree.cpp, used there only.
+  template <class Leaf> bool in_box(const BoundingBox& box, Leaf&& leaf) const;
   void self_pairs(Index a, Index b, const std::function<void(Index, Index)>& visit) const;
   void cross_pairs(Index a, const AabbTree& other, Index b, const std::function<void(Index, Index)>& visit) const;
 
