@@ -204,13 +204,19 @@ def solid_short(solid):
     return "no: " + ", ".join(parts)
 
 
+def one_line(message):
+    """A failure message fit for a table cell: one line, VTK's information dumps left out."""
+    message = re.sub(r"\(Algorithm vtk.*", "(VTK: algorithm returned failure)", message, flags=re.S)
+    return " ".join(message.split()).replace("|", "/")
+
+
 def boolean_cell(rep):
     """Main table cell: median total time and whether the result, as an STL holds it, is a valid solid."""
     if rep is None:
         return ""
     if rep.get("failed"):
         part = rep.get("failed_run_times", {}).get("union")
-        return "failed: " + rep["failed"].replace("|", "/") + (f" (union took {part:.2f} s)" if part else "")
+        return "failed: " + one_line(rep["failed"]) + (f" (union took {part:.2f} s)" if part else "")
     t = rep["times"]["total"]
     stl = rep.get("solid_stl") or rep.get("solid")
     verdict = solid_short(stl)
@@ -250,7 +256,7 @@ def boolean_section(cases, runs, reference_used, timeout):
             if not r:
                 continue
             if r.get("failed"):
-                details.append(f"| {c['name']} | {label} | | | | failed: {r['failed'].replace('|', '/')} | | |")
+                details.append(f"| {c['name']} | {label} | | | | failed: {one_line(r['failed'])} | | |")
                 continue
             t = r["times"]
             raw, stl = r.get("solid", {}), r.get("solid_stl", {})
