@@ -19,7 +19,8 @@ doc = guide.Document
 doc.UndoMode = 1
 result["case"] = guide.Label
 result["tubes"] = [{"name": t.Label, "offset": t.Offset.Value, "length": t.Length.Value,
-                    "inner_diameter": 2 * t.InnerRadius.Value, "outer_diameter": 2 * t.OuterRadius.Value}
+                    "inner_diameter": 2 * t.InnerRadius.Value, "outer_diameter": 2 * t.OuterRadius.Value,
+                    "depth": t.Depth.Value}
                    for t in guide.Tubes]
 
 start = time.time()

@@ -153,7 +153,11 @@ def test_protocol_gives_the_depth_of_every_sleeve(run):
         row = body[tube["name"]]
         assert float(row["Depth to entry"]) == pytest.approx(tube["offset"] + tube["length"], abs=1e-6)
         assert float(row["Drill diameter"]) == pytest.approx(tube["inner_diameter"], abs=1e-6)
-        assert row["Total depth"] == "-"                      # no depth planned in this case
+        if tube["depth"] > 0:  # the example plans 10 mm implants
+            assert float(row["Planned depth"]) == pytest.approx(tube["depth"], abs=1e-6)
+            assert float(row["Total depth"]) == pytest.approx(tube["offset"] + tube["length"] + tube["depth"], abs=1e-6)
+        else:
+            assert row["Total depth"] == "-"
 
 
 def test_one_undo_step_and_a_new_drawing_replaces_the_old(run):
