@@ -5,6 +5,7 @@
 #include "detail/parallel.h"
 
 #include <algorithm>
+#include <array>
 #include <numeric>
 #include <optional>
 #include <system_error>
@@ -251,30 +252,37 @@ bool AabbTree::any_in_box(const BoundingBox& box) const {
   return in_box(box, [](Index) { return true; });
 }
 
-void AabbTree::self_pairs(Index a, Index b, const std::function<void(Index, Index)>& visit) const {
+int AabbTree::split_pair(Index a, Index b, std::array<std::pair<Index, Index>, 3>& into) const {
   const Node& na = nodes_[a];
   const Node& nb = nodes_[b];
-  if (a != b && !na.box.overlaps(nb.box)) return;
+  if (a != b && !na.box.overlaps(nb.box)) return -1;
   const bool la = na.left == kInvalidIndex, lb = nb.left == kInvalidIndex;
-  if (la && lb) {
+  if (la && lb) return 0;
+  if (a == b) {
+    into = {{{na.left, na.left}, {na.right, na.right}, {na.left, na.right}}};
+    return 3;
+  }
+  if (lb || (!la && na.box.diagonal() >= nb.box.diagonal())) {
+    into[0] = {na.left, b};
+    into[1] = {na.right, b};
+  } else {
+    into[0] = {a, nb.left};
+    into[1] = {a, nb.right};
+  }
+  return 2;
+}
+
+void AabbTree::self_pairs(Index a, Index b, const std::function<void(Index, Index)>& visit) const {
+  std::array<std::pair<Index, Index>, 3> children;
+  const int count = split_pair(a, b, children);
+  if (count == 0) { // two leaves
+    const Node& na = nodes_[a];
+    const Node& nb = nodes_[b];
     for (Index i = na.begin; i < na.end; ++i)
       for (Index j = (a == b ? i + 1 : nb.begin); j < nb.end; ++j)
         if (face_boxes_[i].overlaps(face_boxes_[j])) visit(faces_[i], faces_[j]);
-    return;
   }
-  if (a == b) {
-    self_pairs(na.left, na.left, visit);
-    self_pairs(na.right, na.right, visit);
-    self_pairs(na.left, na.right, visit);
-    return;
-  }
-  if (lb || (!la && na.box.diagonal() >= nb.box.diagonal())) {
-    self_pairs(na.left, b, visit);
-    self_pairs(na.right, b, visit);
-  } else {
-    self_pairs(a, nb.left, visit);
-    self_pairs(a, nb.right, visit);
-  }
+  for (int k = 0; k < count; ++k) self_pairs(children[k].first, children[k].second, visit);
 }
 
 void AabbTree::for_each_overlapping_pair(const std::function<void(Index, Index)>& visit) const {
@@ -289,19 +297,10 @@ std::vector<std::pair<Index, Index>> AabbTree::overlapping_pairs() const {
   for (int level = 0; level < 6 && tasks.size() < 256; ++level) {
     std::vector<std::pair<Index, Index>> next;
     for (const auto& [a, b] : tasks) {
-      const Node& na = nodes_[a];
-      const Node& nb = nodes_[b];
-      if (a != b && !na.box.overlaps(nb.box)) continue;
-      const bool la = na.left == kInvalidIndex, lb = nb.left == kInvalidIndex;
-      if (la && lb) {
-        next.emplace_back(a, b);
-      } else if (a == b) {
-        next.insert(next.end(), {{na.left, na.left}, {na.right, na.right}, {na.left, na.right}});
-      } else if (lb || (!la && na.box.diagonal() >= nb.box.diagonal())) {
-        next.insert(next.end(), {{na.left, b}, {na.right, b}});
-      } else {
-        next.insert(next.end(), {{a, nb.left}, {a, nb.right}});
-      }
+      std::array<std::pair<Index, Index>, 3> children;
+      const int count = split_pair(a, b, children);
+      if (count == 0) next.emplace_back(a, b); // two leaves: a task of its own
+      next.insert(next.end(), children.begin(), children.begin() + std::max(count, 0));
     }
     tasks = std::move(next);
   }

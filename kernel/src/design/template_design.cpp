@@ -1,4 +1,5 @@
 #include "st/design/template_design.h"
+#include "detail/timing.h"
 #include "design/template_shell.h"
 #include "st/guide/sleeve.h"
 
@@ -24,8 +25,8 @@ namespace st {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+using detail::Clock;
+using detail::seconds_since;
 
 void check_options(const TemplateOptions& o) {
   auto finite_positive = [](double v) { return std::isfinite(v) && v > 0.0; };

@@ -1,6 +1,7 @@
 // Steps 2-5 of the template design: offset, outer points, outer cut, simplification, wall.
 
 #include "design/template_shell.h"
+#include "detail/timing.h"
 
 #include "st/core/aabb_tree.h"
 #include "st/core/topology.h"
@@ -22,8 +23,8 @@
 namespace st::template_detail {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+using detail::Clock;
+using detail::seconds_since;
 
 // The region vertex farthest (in edges) from the border: a point well inside the region.
 Index innermost_vertex(const TriangleMesh& mesh, const std::vector<Index>& rim) {
@@ -172,9 +173,8 @@ ShellBuild build_shell(const CutResult& inner, const TemplateOptions& options, b
   result.outer_rim_points = outer->rim.size();
   // The contour has a few small, often sliver, triangles per grid cell: simplify the outer surface
   // to about the cell size, within a tenth of a cell, keeping its rim exactly (the wall joins it).
-  TriangleMesh contoured_outer; // kept to fall back on if the simplified shell fails its check
-  std::vector<Index> contoured_rim;
-  bool simplified = false;
+  TriangleMesh contoured_outer;     // kept to fall back on if the simplified shell fails its check
+  std::vector<Index> contoured_rim; // empty unless simplified
   if (options.simplify_outer) {
     t0 = Clock::now();
     DecimateOptions d;
@@ -193,7 +193,6 @@ ShellBuild build_shell(const CutResult& inner, const TemplateOptions& options, b
       if (simpler.vertex_source[v] != kInvalidIndex) new_index.emplace(simpler.vertex_source[v], v);
     contoured_outer = outer->region;
     contoured_rim = outer->rim;
-    simplified = true;
     for (Index& v : outer->rim) v = new_index.at(v);
     outer->region = std::move(simpler.mesh);
     result.times.outer_segmentation += seconds_since(t0);
@@ -226,7 +225,8 @@ ShellBuild build_shell(const CutResult& inner, const TemplateOptions& options, b
   };
   ShellBuild built;
   built.shell = Shell{assemble(outer->region, outer->rim), std::move(outer->region)};
-  if (simplified) built.contoured = Shell{assemble(contoured_outer, contoured_rim), std::move(contoured_outer)};
+  if (!contoured_rim.empty())
+    built.contoured = Shell{assemble(contoured_outer, contoured_rim), std::move(contoured_outer)};
   result.times.connection += seconds_since(t0);
   return built;
 }

@@ -1,4 +1,5 @@
 #include "st/guide/guide.h"
+#include "detail/timing.h"
 
 #include "st/core/aabb_tree.h"
 #include "st/boolean/boolean.h"
@@ -29,9 +30,8 @@ namespace st {
 namespace {
 
 using namespace guide_detail;
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+using detail::Clock;
+using detail::seconds_since;
 
 // Faces of `mesh` that may come within `radius` of the tube's axis between heights z0 and z1: their
 // box meets the segment's box, and the ball around their box meets the segment grown by the radius

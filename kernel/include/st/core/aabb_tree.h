@@ -6,6 +6,7 @@
 #include "st/core/closest_point.h"
 #include "st/core/mesh.h"
 
+#include <array>
 #include <functional>
 #include <optional>
 #include <utility>
@@ -99,6 +100,9 @@ private:
   /// Calls leaf(face) for the triangles whose boxes overlap `box` until it returns true; returns
   /// whether it did. Defined in aabb_tree.cpp, used there only.
   template <class Leaf> bool in_box(const BoundingBox& box, Leaf&& leaf) const;
+  /// The node pairs self_pairs(a, b) recurses into (into[0..count)): -1 when the boxes miss, 0 for two
+  /// leaves (their triangles are compared), else 2 or 3.
+  int split_pair(Index a, Index b, std::array<std::pair<Index, Index>, 3>& into) const;
   void self_pairs(Index a, Index b, const std::function<void(Index, Index)>& visit) const;
   void cross_pairs(Index a, const AabbTree& other, Index b, const std::function<void(Index, Index)>& visit) const;
 

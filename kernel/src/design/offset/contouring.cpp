@@ -414,19 +414,9 @@ Contour DistanceBand::contour() const {
             for (int k = 0; k < 4; ++k) mask |= ((below_mask >> tet[k]) & 1) << k;
             if (mask == 0 || mask == 15) continue;
             const TetCase& tc = kTetCases[mask];
-            std::array<Index, 4> v{};
+            std::array<Index, 12> v{};
             for (int k = 0; k < tc.count; ++k) v[k] = vertex(tet[tc.edges[k][0]], tet[tc.edges[k][1]]);
-            if (tc.count == 3) {
-              tris.push_back({v[0], v[1], v[2]});
-            } else if ((mesh.positions[v[0]] - mesh.positions[v[2]]).squaredNorm() <=
-                       (mesh.positions[v[1]] - mesh.positions[v[3]]).squaredNorm()) {
-              // A planar convex quadrilateral: split along the shorter diagonal.
-              tris.push_back({v[0], v[1], v[2]});
-              tris.push_back({v[0], v[2], v[3]});
-            } else {
-              tris.push_back({v[0], v[1], v[3]});
-              tris.push_back({v[1], v[2], v[3]});
-            }
+            triangulate_cycle(v, tc.count, mesh.positions, tris); // a quadrilateral here is planar and convex
           }
         }
     }
