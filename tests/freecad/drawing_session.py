@@ -18,10 +18,25 @@ guide = st.load_case(case)
 doc = guide.Document
 doc.UndoMode = 1
 result["case"] = guide.Label
+box = guide.Mesh.BoundBox
+result["guide_box"] = [box.XMin, box.YMin, box.ZMin, box.XMax, box.YMax, box.ZMax]
 result["tubes"] = [{"name": t.Label, "offset": t.Offset.Value, "length": t.Length.Value,
                     "inner_diameter": 2 * t.InnerRadius.Value, "outer_diameter": 2 * t.OuterRadius.Value,
                     "depth": t.Depth.Value}
                    for t in guide.Tubes]
+
+# The title block's data, as a user fills them in.
+CASE_DATA = {"CaseId": "MX-2026-0412", "Revision": "C", "Owner": "St. Anna Dental Lab", "Status": "Released",
+             "DesignedBy": "A. Designer", "CheckedBy": "B. Checker", "ApprovedBy": "C. Approver",
+             "Surgeon": "Dr. D. Surgeon", "ImplantSystem": "Straumann BLT 4.1", "Material": "Dental SG resin",
+             "PrintingProcess": "SLA, 50 um layers"}
+info = st.set_case_info(guide, **CASE_DATA)
+result["case_data"] = CASE_DATA
+result["case_info_made_by_load_case"] = info.Label
+try:
+    st.set_case_info(guide, Colour="red")
+except ValueError as e:
+    result["case_data_error"] = str(e)
 
 start = time.time()
 drawing = st.make_drawing(guide, os.path.join(out, "guide-drawing.pdf"))
@@ -30,11 +45,14 @@ page = drawing["page"]
 result["files"] = {k: drawing[k] for k in ("pdf", "svg", "protocol_path")}
 result["protocol"] = drawing["protocol"]
 result["page"] = {"label": page.Label, "template": os.path.basename(page.Template.Template),
-                  "state": list(page.State)}
+                  "state": list(page.State), "title_block": dict(page.Template.EditableTexts)}
 
-views, dims = [], []
+views, dims, balloons = [], [], []
 for v in page.Views:
-    if v.isDerivedFrom("TechDraw::DrawViewDimension"):
+    if v.isDerivedFrom("TechDraw::DrawViewBalloon"):
+        balloons.append({"view": v.SourceView.Label, "text": v.Text, "at": [v.X.Value, v.Y.Value],
+                         "origin": [v.OriginX.Value, v.OriginY.Value], "state": list(v.State)})
+    elif v.isDerivedFrom("TechDraw::DrawViewDimension"):
         ref = v.References2D[0]
         dims.append({"view": ref[0].Name, "refs": list(ref[1]), "type": v.Type, "value": v.getRawValue(),
                      "text": v.getText(), "state": list(v.State)})
@@ -45,8 +63,8 @@ for v in page.Views:
                       "x": v.X.Value, "y": v.Y.Value, "scale": v.Scale, "state": list(v.State)})
     else:
         views.append({"name": v.Name, "label": v.Label, "type": v.TypeId,
-                      "text": list(getattr(v, "Text", []))})
-result["views"], result["dimensions"] = views, dims
+                      "text": list(getattr(v, "Text", [])), "x": v.X.Value, "y": v.Y.Value})
+result["views"], result["dimensions"], result["balloons"] = views, dims, balloons
 result["sheets"] = {o.Label: [o.getContents(c).lstrip("'") for c in ("A1", "A2", "A3", "B3")]
                     for o in doc.Objects if o.TypeId == "Spreadsheet::Sheet"}
 
@@ -58,6 +76,15 @@ result["objects_after_undo"] = {"before": count, "after": len(doc.Objects),
 doc.redo()
 st.make_drawing(guide, os.path.join(out, "again"), pdf=False, svg=False)
 result["pages_after_second_drawing"] = len([o for o in doc.Objects if o.TypeId == "TechDraw::DrawPage"])
+
+# A change to the guide marks its drawing out of date; a new drawing is up to date again.
+page = [o for o in doc.Objects if o.TypeId == "TechDraw::DrawPage"][0]
+fresh = {"out_of_date": page.OutOfDate, "label": page.Label}
+guide.Tubes[0].Length = guide.Tubes[0].Length.Value + 0.5
+doc.recompute()
+result["drawing_after_change"] = {"fresh": fresh, "out_of_date": page.OutOfDate, "label": page.Label}
+again = st.make_drawing(guide, os.path.join(out, "again"), pdf=False, svg=False)["page"]
+result["drawing_after_change"]["new"] = {"out_of_date": again.OutOfDate, "label": again.Label}
 
 # Clear errors.
 class _EmptyGuide:

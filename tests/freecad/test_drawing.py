@@ -63,7 +63,7 @@ def test_pdf_and_svg_written_whole(run):
     assert pdf.endswith("guide-drawing.pdf") and svg.endswith("guide-drawing.svg")
     with open(pdf, "rb") as f:
         head = f.read(5)
-    assert head == b"%PDF-" and os.path.getsize(pdf) > 50_000
+    assert head == b"%PDF-" and os.path.getsize(pdf) > 20_000
     with open(svg, encoding="utf-8") as f:
         text = f.read()
     assert "<svg" in text and text.rstrip().endswith("</svg>") and len(text) > 50_000
@@ -77,8 +77,26 @@ def test_pdf_text_names_the_case_the_sleeves_and_the_template(run):
                           text=True).stdout
     assert run["case"] in text
     assert "Thickness" in text and "SLEEVE" in text
-    for name in names(run):
-        assert f"SLEEVE {name}" in text
+    # The example's five sleeves are of one size: one detail, titled with all their names.
+    assert "SLEEVES " + ", ".join(names(run)) in text
+
+
+def test_title_block_from_the_case_data_searchable_in_a_clean_pdf(run):
+    """Every field the user set is in the title block and in the PDF as text; poppler reads the PDF
+    without an error."""
+    block = run["page"]["title_block"]
+    for key, value in run["case_data"].items():
+        assert block[key] == value
+    assert block["Title"] == run["case"] and block["Sheet"] == "1 / 1" and block["Scale"].endswith(":1")
+    assert "Colour" in run["case_data_error"] and "CaseId" in run["case_data_error"]
+    if not shutil.which("pdftotext"):
+        pytest.skip("pdftotext missing (Debian package poppler-utils)")
+    p = subprocess.run(["pdftotext", run["files"]["pdf"], "-"], capture_output=True, text=True)
+    assert p.returncode == 0 and p.stderr == ""
+    words = " ".join(p.stdout.split())
+    for value in run["case_data"].values():
+        assert value in words, value
+    assert "REV." in words and "DOCUMENT STATUS" in words and "MX-2026-0412-G" in words
 
 
 def test_page_looks_like_a_drawing(run):
@@ -112,19 +130,35 @@ def test_front_top_and_side_views_of_the_guide(run):
     assert views["Left"]["x"] > views["Front"]["x"] and views["Left"]["y"] == pytest.approx(views["Front"]["y"])
 
 
-def test_one_dimensioned_detail_per_sleeve(run):
+def sizes(run):
+    """{(inner, outer, length): [tube names]} of a drawing's guide."""
+    out = {}
+    for t in run["tubes"]:
+        out.setdefault((t["inner_diameter"], t["outer_diameter"], t["length"]), []).append(t["name"])
+    return out
+
+
+def check_one_dimensioned_detail_per_size(run):
     details = {v["sources"][0]: v for v in run["views"] if v["label"].startswith("Sleeve ")}
-    assert sorted(details) == sorted(names(run))
-    for tube in run["tubes"]:
-        view = details[tube["name"]]
+    by_size = sizes(run)
+    assert sorted(details) == sorted(names[0] for names in by_size.values())
+    for (inner, outer, length), members in by_size.items():
+        view = details[members[0]]
         assert view["hidden_edges"] > 0                        # the bore, dashed
         dims = [d for d in run["dimensions"] if d["view"] == view["name"]]
         assert len(dims) == 3
         assert all("Invalid" not in d["state"] for d in dims)
-        values = sorted(d["value"] for d in dims)
-        want = sorted([tube["length"], tube["outer_diameter"], tube["inner_diameter"]])
-        assert values == pytest.approx(want, abs=1e-6)
+        assert sorted(d["value"] for d in dims) == pytest.approx(sorted([length, outer, inner]), abs=1e-6)
         assert sum(d["text"].startswith("⌀") for d in dims) == 2   # two diameters
+        title = [v for v in run["views"] if v["name"] == view["name"] + "Title"][0]["text"][0]
+        assert title.startswith("SLEEVE " if len(members) == 1 else "SLEEVES ")
+        assert all(name in title for name in members)
+    return len(details)
+
+
+def test_one_dimensioned_detail_per_sleeve_size(run, cutting):
+    assert check_one_dimensioned_detail_per_size(run) == 1           # five sleeves of one size
+    assert check_one_dimensioned_detail_per_size(cutting) == 2       # a K-wire and a screw
 
 
 def test_tables_of_sleeves_and_template(run):
@@ -138,7 +172,49 @@ def test_tables_of_sleeves_and_template(run):
     assert any("azimuth" in c and "elevation" in c for c in cells)   # the angles are explained
     # The numbers also in spreadsheets, for the user.
     sheets = run["sheets"]
-    assert any(c[0] == "Sleeve" and c[2] == names(run)[0] for c in sheets.values())
+    assert any(c[:3] == ["No.", "", "1"] and c[3] == names(run)[0] for c in sheets.values())
+
+
+def test_numbered_balloons_keyed_to_the_sleeve_table_never_overlap(run):
+    """Each main view has a balloon per sleeve numbered as its row in the sleeve table, the leader from
+    the sleeve's top; no two bubbles of a view overlap (3.5 mm text: bubbles about 3.3 mm in radius)."""
+    numbers = [str(i) for i in range(1, len(names(run)) + 1)]
+    for view in ("Front", "Top", "Left"):
+        mine = [b for b in run["balloons"] if b["view"] == view]
+        assert sorted(b["text"] for b in mine) == sorted(numbers)
+        assert all("Invalid" not in b["state"] for b in mine)
+        scale = {v["label"]: v["scale"] for v in run["views"] if "scale" in v}[view]
+        at = np.array([b["at"] for b in mine]) * scale       # page mm (balloons keep unscaled positions)
+        gaps = np.linalg.norm(at[:, None] - at[None], axis=2) + np.eye(len(at)) * 1e9
+        assert gaps.min() >= 2.2 * 0.95 * 3.5 - 1e-9
+        leaders = np.linalg.norm(at - np.array([b["origin"] for b in mine]) * scale, axis=1)
+        assert leaders.min() > 3.0 and leaders.max() < 60.0
+
+
+def test_each_main_view_has_an_axis_marker_with_scan_coordinates(run, cutting):
+    """Each main view shows the scan axes that lie in it, pointing the way they go in that view, from a
+    foot labelled with its scan coordinates: the box corner the view puts at its lower left, rounded
+    outward to whole mm (or the scan origin, when the view shows it)."""
+    # view: (axis to the right and its sign, axis up), as the views look (first-angle, scan frame).
+    seen = {"Front": (("X", 1), "Z"), "Top": (("X", 1), "Y"), "Left": (("Y", -1), "Z")}
+    for r in (run, cutting):
+        notes = {v["name"]: v for v in r["views"] if v.get("type") == "TechDraw::DrawViewAnnotation"}
+        lo, hi = np.array(r["guide_box"][:3]), np.array(r["guide_box"][3:])
+        for view, ((right, sign), up) in seen.items():
+            foot = notes[f"View{view}AxisFoot"]
+            words = foot["text"][0]
+            assert words.startswith("(") and words.endswith(")"), words
+            xyz = np.array([float(c) for c in words[1:-1].split(",")])
+            assert np.all(xyz == np.round(xyz))
+            for k, name in enumerate("XYZ"):
+                if name == right and sign < 0:
+                    assert hi[k] <= xyz[k] < hi[k] + 1.0
+                elif name in (right, up):
+                    assert lo[k] - 1.0 < xyz[k] <= lo[k]
+            letter_r, letter_u = notes[f"View{view}Axis{right}"], notes[f"View{view}Axis{up}"]
+            assert sign * (letter_r["x"] - foot["x"]) > 8.0 and abs(letter_r["y"] - foot["y"]) < 5.0
+            assert letter_u["y"] - foot["y"] > 8.0 and abs(letter_u["x"] - foot["x"]) < 1e-6
+            assert not any(f"View{view}Axis{n}" in notes for n in "XYZ" if n not in (right, up))
 
 
 def test_protocol_gives_the_depth_of_every_sleeve(run):
@@ -164,6 +240,13 @@ def test_one_undo_step_and_a_new_drawing_replaces_the_old(run):
     undo = run["objects_after_undo"]
     assert undo["pages"] == 0 and undo["after"] < undo["before"]
     assert run["pages_after_second_drawing"] == 1
+
+
+def test_a_recomputed_guide_marks_its_drawing_out_of_date(run):
+    state = run["drawing_after_change"]
+    assert not state["fresh"]["out_of_date"] and "out of date" not in state["fresh"]["label"]
+    assert state["out_of_date"] and state["label"] == state["fresh"]["label"] + " (out of date)"
+    assert not state["new"]["out_of_date"] and "out of date" not in state["new"]["label"]
 
 
 def test_clear_errors(run):

@@ -28,11 +28,15 @@ def test_a_headless_document_opens_in_the_gui_with_its_view_providers(opened):
     assert icons["maxilla-implants"] == "SurgicalTemplate_Guide.svg"
     assert {icons[t] for t in ("16", "13", "11", "23", "26")} == {"SurgicalTemplate_Tube.svg"}
     assert "SurgicalTemplate_Template.svg" in icons.values() and "SurgicalTemplate_Boundary.svg" in icons.values()
-    assert set(opened["children"]) >= {"16", "13", "11", "23", "26"} and len(opened["children"]) == 6
+    # The shell, the five tubes and the case data (the drawing's title block) under the guide.
+    assert set(opened["children"]) >= {"16", "13", "11", "23", "26", "maxilla-implants case data"}
+    assert len(opened["children"]) == 7
+    assert icons["maxilla-implants case data"] == "SurgicalTemplate_CaseInfo.svg"
     visible = opened["visible"]
     assert visible["maxilla-implants"]
     assert not any(visible[t] for t in ("16", "13", "11", "23", "26"))
-    assert [v for k, v in visible.items() if k in opened["children"]].count(True) == 0
+    shapes = [k for k in opened["children"] if k != "maxilla-implants case data"]
+    assert [visible[k] for k in shapes].count(True) == 0
 
 
 def test_deleting_the_guide_shows_its_parts_and_undo_restores_it(opened):

@@ -33,7 +33,7 @@ BUILD_DIRS = [os.path.join(ROOT, d) for d in os.environ.get("ST_BUILD_DIRS", "bu
 
 # The programs the Makefile, CI and the tests run (besides the compilers CMake records).
 PROGRAMS = ["cmake", "ctest", "make", "xvfb-run", "Xvfb", "xauth", "freecad", "freecadcmd",
-            "pdftotext", "pdftoppm", "/usr/bin/python3", "clang", "clang++", "clang-format"]
+            "pdftotext", "pdftoppm", "rsvg-convert", "/usr/bin/python3", "clang", "clang++", "clang-format"]
 
 # Data files the kernel reads at run time: the labels' font (kernel/occt/src/occt_text.cpp).
 RUNTIME_DATA = ["/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"]

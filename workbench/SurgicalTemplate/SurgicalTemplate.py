@@ -10,7 +10,7 @@ or step by step: make_bone, make_boundary, make_template, make_tube, make_guide 
 cutting guide's saw slots and labels: add_slot, add_label.
 Plans from planning software: load_plan (3D Slicer markups, CSV of axes or cut planes, case files);
 sleeve sizes and saw blades: sleeve_presets, blade_presets; documentation: make_drawing (TechDraw page,
-PDF, SVG, drill protocol). Each call is one undo step. Lengths are in mm. Kernel failures raise
+PDF, SVG, drill protocol) with its title block from set_case_info (owner, status, revision, case id, ...). Each call is one undo step. Lengths are in mm. Kernel failures raise
 ValueError (bad input) or RuntimeError (geometry), naming what and where.
 
 This module is the API's face: the functions live in stmake (making and changing objects),
@@ -22,7 +22,7 @@ from stdrawing.protocol import drill_protocol
 from stfunctions.inspection import inspect, thickness_colour
 from stfunctions.presets import blade_presets, sleeve_presets, user_presets_path
 from stfunctions.query import find_guide, tree_of
-from stmake.case import load_case, save_case
+from stmake.case import load_case, save_case, set_case_info
 from stmake.drawing import make_drawing
 from stmake.export import export
 from stmake.objects import (edit_tube, make_bone, make_boundary, make_final, make_guide, make_template, make_tube,
@@ -33,4 +33,4 @@ from stmake.step import Step as _Step  # noqa: F401  (scripts and tests group th
 
 __all__ = ["make_bone", "make_boundary", "make_template", "make_tube", "make_guide", "make_final", "export",
            "load_case", "save_case", "load_plan", "sleeve_presets", "blade_presets", "find_guide", "tree_of", "inspect", "thickness_colour", "make_drawing", "drill_protocol",
-           "add_label", "add_slot", "edit_tube"]
+           "add_label", "add_slot", "edit_tube", "set_case_info"]

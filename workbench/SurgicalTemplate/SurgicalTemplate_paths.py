@@ -1,7 +1,8 @@
-"""Where the workbench is installed (InitGui.py runs without __file__ in FreeCAD 0.20), its icons and
-its Qt Designer forms."""
+"""Where the workbench is installed (InitGui.py runs without __file__ in FreeCAD 0.20), its icons,
+its Qt Designer forms and its drawing templates."""
 import os
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ICONS = os.path.join(HERE, "icons")
 UI = os.path.join(HERE, "Resources", "ui")
+TEMPLATES = os.path.join(HERE, "Resources", "templates")

@@ -34,6 +34,8 @@ def _style(page):
             view = v.References2D[0][0] if v.References2D else None
             if view is not None and v.getRawValue() * view.Scale < 5.0 * settings["Fontsize"]:
                 settings["FlipArrowheads"] = True
+        elif v.isDerivedFrom("TechDraw::DrawViewBalloon"):
+            settings = {"Fontsize": 3.5, "LineWidth": 0.18}
         elif v.isDerivedFrom("TechDraw::DrawViewPart"):
             settings = {"LineWidth": 0.35, "HiddenWidth": 0.18, "ExtraWidth": 0.18}
         for key, value in settings.items():
@@ -148,29 +150,65 @@ def _export_subprocess(doc, page, pdf, svg):
             raise RuntimeError(f"{page.Label}: export with FreeCAD's GUI failed (exit {proc.returncode}):\n{detail}")
 
 
+_FONTS_CONF = """<?xml version="1.0"?>
+<!DOCTYPE fontconfig SYSTEM "fonts.dtd">
+<fontconfig>
+  <include ignore_missing="yes">/etc/fonts/fonts.conf</include>
+  <dir>{fonts}</dir>
+</fontconfig>
+"""
+
+
+def _pdf_from_svg(svg, pdf, label):
+    """The PDF of the page's SVG by librsvg (cairo): text stays text (the title block and the tables can be
+    searched and copied), with TechDraw's osifont found where FreeCAD keeps it. Qt's PDF export writes the
+    template's text as outlines and empty sub-paths that poppler reports."""
+    rsvg = shutil.which("rsvg-convert")
+    with tempfile.TemporaryDirectory(prefix="surgical-template-pdf-") as tmp:
+        conf = os.path.join(tmp, "fonts.conf")
+        with open(conf, "w") as f:
+            f.write(_FONTS_CONF.format(fonts=os.path.join(App.getResourceDir(), "Mod", "TechDraw", "Resources",
+                                                           "fonts")))
+        env = dict(os.environ, FONTCONFIG_FILE=conf, XDG_CACHE_HOME=tmp)
+        p = subprocess.run([rsvg, "--format=pdf", "--output", pdf, svg], env=env, capture_output=True, text=True,
+                           timeout=EXPORT_TIMEOUT)
+    if p.returncode != 0:
+        raise RuntimeError(f"{label}: rsvg-convert could not make the PDF (exit {p.returncode}): {p.stderr[-2000:]}")
+
+
 def write_page(page, targets):
     """Exports the page to `targets` ({"pdf": path, "svg": path}, either optional): each file written
-    to a temporary name next to it and renamed once every export worked. Returns the paths written."""
+    to a temporary name next to it and renamed once every export worked. The PDF is made from the SVG
+    by rsvg-convert (Debian package librsvg2-bin); without it, by TechDraw's own PDF export, with a
+    warning. Returns the paths written."""
     written = {}
     if not targets:
         return written
     folder = os.path.dirname(next(iter(targets.values())))
-    temps = {k: tempfile.mkstemp(dir=folder, prefix=".drawing-", suffix="." + k) for k in targets}
+    via_svg = "pdf" in targets and shutil.which("rsvg-convert") is not None
+    if "pdf" in targets and not via_svg:
+        App.Console.PrintWarning(f"{page.Label}: rsvg-convert not found (Debian package librsvg2-bin): the PDF "
+                                 "comes from TechDraw's export, whose title block text cannot be searched\n")
+    kinds = list(targets) + (["svg"] if via_svg and "svg" not in targets else [])
+    temps = {k: tempfile.mkstemp(dir=folder, prefix=".drawing-", suffix="." + k) for k in kinds}
     for fd, _ in temps.values():
         os.close(fd)
     try:
         tmp = {k: p for k, (_, p) in temps.items()}
+        gui_pdf = None if via_svg else tmp.get("pdf")
         if App.GuiUp:
-            _export_here(page, tmp.get("pdf"), tmp.get("svg"))
+            _export_here(page, gui_pdf, tmp.get("svg"))
         else:
-            _export_subprocess(page.Document, page, tmp.get("pdf"), tmp.get("svg"))
+            _export_subprocess(page.Document, page, gui_pdf, tmp.get("svg"))
+        if via_svg:
+            _pdf_from_svg(tmp["svg"], tmp["pdf"], page.Label)
         for k, p in tmp.items():
             if os.path.getsize(p) == 0:
                 raise RuntimeError(f"{page.Label}: the {k.upper()} export wrote nothing")
         mode = 0o666 & ~_umask()
-        for k, p in tmp.items():
-            os.chmod(p, mode)
-            os.replace(p, targets[k])
+        for k in targets:
+            os.chmod(tmp[k], mode)
+            os.replace(tmp[k], targets[k])
             written[k] = targets[k]
     finally:
         for _, p in temps.values():

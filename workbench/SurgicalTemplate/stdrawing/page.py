@@ -9,21 +9,27 @@ import numpy as np
 import FreeCAD as App
 import Part
 
+import SurgicalTemplate_paths
+
 from stdrawing.lines import guide_lines
+from stdrawing.marks import ViewFrame, axis_labels, axis_marker
+from stdrawing.marks import balloons as sleeve_balloons
 from stdrawing.protocol import sleeve_rows, slot_rows, template_info, vec
 from stdrawing.slots import dimension_slots, slot_details, slot_table
+from stobjects.case_info import CaseInfo, author_name, case_info_of
 
 SCALES = (20.0, 10.0, 5.0, 4.0, 3.0, 2.5, 2.0, 1.5, 1.0, 0.5, 0.4, 0.25, 0.2, 0.1)
 TEXT = 3.5            # mm, text on the page
 SMALL = 2.5           # mm, small text (table, notes)
 
 
-# Templates that come with FreeCAD's TechDraw; page coordinates in mm, origin at the lower left.
+# The workbench's templates (Resources/templates): a frame and an ISO 7200 title block 180 x 56 mm whose
+# fields come from the case data (stobjects.case_info); page coordinates in mm, origin at the lower left.
 _PAPERS = {
-    "A3": {"template": "A3_LandscapeTD.svg", "size": (420.0, 297.0), "work": (10.0, 10.0, 410.0, 287.0),
-           "title": (220.0, 10.0, 410.0, 70.0)},
-    "A4": {"template": "A4_LandscapeTD.svg", "size": (297.0, 210.0), "work": (10.0, 10.0, 287.0, 200.0),
-           "title": (147.0, 10.0, 287.0, 57.0)},
+    "A3": {"template": "A3_Landscape_SurgicalGuide.svg", "size": (420.0, 297.0),
+           "work": (10.0, 10.0, 410.0, 287.0), "title": (230.0, 10.0, 410.0, 66.0)},
+    "A4": {"template": "A4_Landscape_SurgicalGuide.svg", "size": (297.0, 210.0),
+           "work": (10.0, 10.0, 287.0, 200.0), "title": (107.0, 10.0, 287.0, 66.0)},
 }
 
 # Main views: name, caption, TechDraw Direction (from the object to the viewer), XDirection.
@@ -44,9 +50,9 @@ def paper_spec(paper):
     if key not in _PAPERS:
         raise ValueError(f"paper {paper!r}: use one of {', '.join(_PAPERS)}")
     spec = dict(_PAPERS[key], name=key)
-    spec["path"] = os.path.join(App.getResourceDir(), "Mod", "TechDraw", "Templates", spec["template"])
+    spec["path"] = os.path.join(SurgicalTemplate_paths.TEMPLATES, spec["template"])
     if not os.path.exists(spec["path"]):
-        raise RuntimeError(f"TechDraw template {spec['path']} not found (is FreeCAD's TechDraw installed?)")
+        raise RuntimeError(f"drawing template {spec['path']} not found (reinstall the workbench)")
     return spec
 
 
@@ -103,6 +109,9 @@ class Builder:
         self.page.Template = template
         self.page.addProperty("App::PropertyString", "SurgicalGuide", "Surgical Template", "The guide drawn here")
         self.page.SurgicalGuide = g.Name
+        self.page.addProperty("App::PropertyBool", "OutOfDate", "Surgical Template",
+                              "The guide has been recomputed since this drawing was made: make it again")
+        self.page.setEditorMode("OutOfDate", 1)
         self.group = self.add("App::DocumentObjectGroup", "DrawingData", f"{g.Label} drawing data")
         self.page.addProperty("App::PropertyString", "DrawingData", "Surgical Template", "Its lines and tables")
         self.page.DrawingData = self.group.Name
@@ -115,12 +124,20 @@ class Builder:
         self.details(plan, wx0 + m, ty1 + m + band)
         self.sleeve_table((wx0 + m, wy0 + m, tx0 - m, ty1))
         scale = _scale_text(self.scale)
-        # The fields of the A3 and the A4 template.
-        texts = {"FC-Title": g.Label, "Subtitle": "Surgical guide: sleeves and drilling plan",
-                 "AuthorName": "Surgical Template", "Designed_by_Name": "Surgical Template",
-                 "CreationDate": self.date[:10], "FC-Date": self.date[:10], "FC-Scale": scale, "FC-SC": scale,
-                 "DrawingNumber": g.Label, "Drawing_number": g.Label, "SheetNumber": "1 / 1", "FC-SH": "1 / 1",
-                 "Weight": "", "SupervisorName": "", "CheckDate": ""}
+        template.EditableTexts = self.title_block(template.EditableTexts, scale)
+        return self.page
+
+    def title_block(self, fields, scale):
+        """The title block's fields: the case data (the guide's CaseInfo; without one, the guide's name as
+        the case id and FreeCAD's author name as the designer), the title, number, scale, date, sheet."""
+        g = self.guide
+        info = case_info_of(g)
+        values = CaseInfo.fields(info) if info is not None else {"CaseId": g.Label, "DesignedBy": author_name(),
+                                                                   "DocumentType": "Surgical guide drawing"}
+        values.update({"Title": g.Label, "Subtitle": "Surgical guide: sleeves and drilling plan",
+                       "DrawingNumber": f"{values.get('CaseId') or g.Label}-G", "Scale": scale,
+                       "IssueDate": self.date[:10], "Sheet": "1 / 1"})
+        return {k: values.get(k, "") for k in fields}
         template.EditableTexts = {k: texts.get(k, v) for k, v in template.EditableTexts.items()}
         return self.page
 
@@ -163,54 +180,37 @@ class Builder:
         shapes = guide_lines(self.guide, [(d, x) for _, _, d, x in _VIEWS], self.arrays)
         self.views = {}
         placed = []   # (object, its box on the page)
-        for (name, title, d, x), shape in zip(_VIEWS, shapes):
+        around = []   # balloons: placed relative to their view
+        for (name, title, d, x), lines in zip(_VIEWS, shapes):
+            shape, letters, foot, at_origin = axis_marker(lines, d, x, s)
             f = self.feature(f"DrawingLines{name}", f"{self.guide.Label} lines {name}", shape)
             cx, cy = places[name]
             v = self.part_view(f"View{name}", name, [f], d, x, s, cx, cy, "")
             self.views[name] = v
             half = _projected_half_size(shape, d, x) * s
+            frame = ViewFrame(shape, d, x, s)
             mine = [(v, (cx - half[0], cy - half[1], cx + half[0], cy + half[1]))]
-            mine += self.sleeve_labels(v, shape, d, x, s, cx, cy)
-            low = min(box[1] for _, box in mine) - 1.2 * self.text
+            mine += axis_labels(self, f"View{name}", frame, letters, foot, at_origin, cx, cy)
+            balloons = sleeve_balloons(self, v, frame, cx, cy)
+            low = min(box[1] for _, box in mine + balloons) - 1.2 * self.text
             t = self.annotation(f"View{name}Title", [title], cx, low, self.text)
             placed += mine + [(t, _text_box(title, self.text, cx, low))]
-        # Centre the arrangement with its names and titles in the region.
-        bx0, by0 = min(b[0] for _, b in placed), min(b[1] for _, b in placed)
-        bx1, by1 = max(b[2] for _, b in placed), max(b[3] for _, b in placed)
+            around += balloons
+        # Centre the arrangement with its balloons and titles in the region (balloons move with their view).
+        boxes = [b for _, b in placed + around]
+        bx0, by0 = min(b[0] for b in boxes), min(b[1] for b in boxes)
+        bx1, by1 = max(b[2] for b in boxes), max(b[3] for b in boxes)
         dx, dy = (x0 + x1 - bx0 - bx1) / 2.0, (y0 + y1 - by0 - by1) / 2.0
         for obj, _ in placed:
             obj.X, obj.Y = _length(obj.X) + dx, _length(obj.Y) + dy
-
-    def sleeve_labels(self, view, shape, d, x, s, cx, cy):
-        """Sleeve names beside their tops, outward along the projected axis: [(annotation, box)]."""
-        d, x = np.array(d), np.array(x)
-        frame = np.stack([x, np.cross(d, x)])
-        box = shape.BoundBox
-        corners = np.array([[px, py, pz] for px in (box.XMin, box.XMax) for py in (box.YMin, box.YMax)
-                            for pz in (box.ZMin, box.ZMax)]) @ frame.T
-        c = (corners.min(axis=0) + corners.max(axis=0)) / 2.0     # TechDraw centres a view on its box
-        out = []
-        for r in sleeve_rows(self.guide):
-            q = -frame @ r["direction"]
-            top = (frame @ r["top"] - c) * s
-            R = r["outer_diameter"] / 2.0 * s
-            if np.linalg.norm(q) > 0.35:
-                at = top + q / np.linalg.norm(q) * (R + 0.9 * self.text)
-            else:
-                at = top + np.array([1.0, 1.0]) * (R + 0.5 * self.text)
-            if any(np.linalg.norm(at - np.array([_length(o.X) - cx, _length(o.Y) - cy])) < 1.5 * self.text
-                   for o, _ in out):
-                continue
-            a = self.annotation(f"{view.Name}Label", [r["name"]], cx + at[0], cy + at[1], self.text, "Bold")
-            out.append((a, _text_box(r["name"], self.text, cx + at[0], cy + at[1])))
-        return out
 
     def detail_plan(self, width, height):
         """(scale, lines, columns, cell width, cell height) of the sleeve and slot details in a band, or
         None; the scale is the sleeves' (each slot's detail fits its cell at its own)."""
         rows = sleeve_rows(self.guide)
+        self.sizes = sleeve_sizes(self.guide)
         self.detail_scale = SCALES[0]
-        count = len(rows) + len(self.slots)
+        count = len(self.sizes) + len(self.slots)
         if not count:
             return None
         L = max((r["length"] for r in rows), default=10.0)
@@ -226,18 +226,20 @@ class Builder:
         return best
 
     def details(self, plan, x0, y1):
-        """One view per sleeve, across the sleeve's seam, then one per slot, in cells below y1."""
+        """One view per sleeve size (the first sleeve of that size, across its seam), titled with the
+        numbers of the sleeves it stands for, then one per slot, in cells below y1."""
         self.details_of, self.slot_views = {}, {}
         if plan is None:
             return
         s, lines, cols, cw, ch = plan
         rows = sleeve_rows(self.guide)
         cells = []
-        for i in range(len(rows), len(rows) + len(self.slots)):
+        for i in range(len(self.sizes), len(self.sizes) + len(self.slots)):
             row, col = divmod(i, cols)
             cells.append((x0 + (col + 0.5) * cw, y1 - (row + 0.5) * ch + 0.8 * self.text, cw, ch))
         self.slot_views = slot_details(self, self.slots, cells, _fit_scale, _scale_text)
-        for i, (r, tube) in enumerate(zip(rows, self.guide.Tubes)):
+        for i, members in enumerate(self.sizes):
+            r, tube = rows[members[0]], self.guide.Tubes[members[0]]
             row, col = divmod(i, cols)
             cx, cy = x0 + (col + 0.5) * cw, y1 - (row + 0.5) * ch + 0.8 * self.text
             a = r["direction"]
@@ -247,7 +249,8 @@ class Builder:
             v.HardHidden = True
             R, rr = r["outer_diameter"] / 2.0 * s, r["inner_diameter"] / 2.0 * s
             low = cy - max(R, rr + 1.2 * self.text) - 1.4 * self.text
-            self.annotation(f"Sleeve{i}Title", [f"SLEEVE {r['name']}  ({_scale_text(s)})"], cx, low, self.text)
+            title = _detail_title(members, rows, cw, self.text)
+            self.annotation(f"Sleeve{i}Title", [f"{title}  ({_scale_text(s)})"], cx, low, self.text)
             # Which end is which, outside the diameters: the drill enters at the top (left).
             ends = r["length"] / 2.0 * s + 1.6 * self.text + 2.2 * self.small
             self.annotation(f"Sleeve{i}Top", ["top"], cx - ends, cy, self.small, "Italic")
@@ -268,7 +271,9 @@ class Builder:
         """After a recompute: diameters and length of each sleeve, on its edges found by geometry; each
         slot's width."""
         self.slot_dimensions = dimension_slots(self)
-        for r, tube in zip(sleeve_rows(self.guide), self.guide.Tubes):
+        rows = sleeve_rows(self.guide)
+        for members in self.sizes:
+            r, tube = rows[members[0]], self.guide.Tubes[members[0]]
             v = self.details_of[tube.Name]
             s = v.Scale
             edges = _view_edges(v)
@@ -385,12 +390,12 @@ class Builder:
         x0, y0, x1, y1 = region
         self.sheet = self.add("Spreadsheet::Sheet", "DrawingSleeveTable", f"{self.guide.Label} sleeve table")
         self.group.addObject(self.sheet)
-        head = ["Sleeve", "Entry X", "Entry Y", "Entry Z", "Azimuth", "Elevation", "Ø inner", "Ø outer",
+        head = ["No.", "Sleeve", "Entry X", "Entry Y", "Entry Z", "Azimuth", "Elevation", "Ø inner", "Ø outer",
                 "Length", "Offset", "Top to entry", "Depth"]
-        units = ["", "mm", "mm", "mm", "°", "°", "mm", "mm", "mm", "mm", "mm", "mm"]
+        units = ["", "", "mm", "mm", "mm", "°", "°", "mm", "mm", "mm", "mm", "mm", "mm"]
         rows = [head, units]
-        for r in sleeve_rows(self.guide):
-            rows.append([r["name"], *(f"{c:.2f}" for c in r["entry"]), f"{r['azimuth']:.1f}", f"{r['elevation']:.1f}",
+        for number, r in enumerate(sleeve_rows(self.guide), start=1):
+            rows.append([str(number), r["name"], *(f"{c:.2f}" for c in r["entry"]), f"{r['azimuth']:.1f}", f"{r['elevation']:.1f}",
                          f"{r['inner_diameter']:.2f}", f"{r['outer_diameter']:.2f}", f"{r['length']:.2f}",
                          f"{r['offset']:.2f}", f"{r['depth_to_entry']:.2f}",
                          f"{r['depth']:.2f}" if r["depth"] > 0 else "-"])
@@ -411,6 +416,34 @@ class Builder:
         self.notes = self.annotation("SleeveTableNotes", notes, x0 + (x1 - x0) / 2.0, y1 - h - note_h / 2.0,
                                      size * 0.9)
         self.notes.MaxWidth = x1 - x0
+
+
+def sleeve_sizes(guide):
+    """The guide's tubes grouped by size (bore, outer diameter, length, counterbore): lists of their
+    indices, in the order of the tubes' first appearance."""
+    groups = {}
+    for i, t in enumerate(guide.Tubes):
+        key = tuple(round(float(getattr(t, p).Value), 6) for p in ("InnerRadius", "OuterRadius", "Length")
+                    if hasattr(t, p))
+        key += tuple(round(float(getattr(t, p).Value), 6) for p in ("CounterboreRadius", "CounterboreDepth")
+                     if hasattr(t, p))
+        groups.setdefault(key, []).append(i)
+    return list(groups.values())
+
+
+def _detail_title(members, rows, width, text):
+    """"SLEEVE 16" or "SLEEVES 16, 13, 11" (the names of the sleeves of that size) or, where the names
+    do not fit the cell, their numbers in the sleeve table: "SLEEVES 1-3, 5"."""
+    head = "SLEEVE " if len(members) == 1 else "SLEEVES "
+    title = head + ", ".join(rows[i]["name"] for i in members)
+    if _text_width(title + "  (10:1)", text) <= width:
+        return title
+    runs, start = [], members[0]
+    for a, b in zip(members, members[1:] + [None]):
+        if b != a + 1:
+            runs.append(f"{start + 1}" if a == start else f"{start + 1}-{a + 1}")
+            start = b
+    return head + "No. " + ", ".join(runs)
 
 
 def _seam_side(tube, axis):
@@ -475,7 +508,9 @@ def check_page(builder):
     for v in builder.page.Views:
         if "Invalid" in v.State:
             raise RuntimeError(f"{v.Label}: TechDraw failed on this view")
-    for r, tube in zip(sleeve_rows(builder.guide), builder.guide.Tubes):
+    rows = sleeve_rows(builder.guide)
+    for members in builder.sizes:   # each size's detail, on its first sleeve
+        r, tube = rows[members[0]], builder.guide.Tubes[members[0]]
         want = (r["length"], r["outer_diameter"], r["inner_diameter"])
         got = tuple(d.getRawValue() for d in builder.dimensions.get(tube.Name, ()))
         if len(got) != 3 or any(abs(a - b) > 1e-4 for a, b in zip(want, got)):

@@ -4,8 +4,9 @@ import os
 import FreeCAD as App
 
 import st_bridge
-from stmake.objects import make_bone, make_boundary, make_guide, make_template, make_tube
+from stmake.objects import make_bone, make_boundary, make_guide, make_template, make_tube, view_of
 from stmake.step import Step
+from stobjects.case_info import FIELDS, CaseInfo, STATUSES, case_info_of
 from stobjects.template import insertion_argument
 
 
@@ -32,6 +33,7 @@ def load_case(path, doc=None):
                            counterbore=t.get("counterbore")) for t in case["tubes"]]
         guide = make_guide(shell, tubes, slots=case.get("slots", []), labels=case.get("labels", []))
         guide.Label = case["name"] or "SurgicalGuide"
+        set_case_info(guide, CaseId=case["name"])
     doc.recompute()
     return guide
 
@@ -60,3 +62,29 @@ def save_case(guide, path, output=None):
         "output": os.path.join(os.path.dirname(os.path.abspath(path)), output) if output else None,
     }, path)
     return path
+
+
+def set_case_info(guide, **fields):
+    """The case's document data for `guide` (its CaseInfo object, made when it has none), with `fields`
+    set: Owner, DocumentType, DesignedBy, CheckedBy, ApprovedBy, CaseId, Surgeon, ImplantSystem,
+    Material, PrintingProcess, Revision (text) and Status (one of STATUSES). The drawing's title block
+    shows them. One undo step; returns the object."""
+    known = {name for name, _, _, _ in FIELDS} | {"Status"}
+    unknown = sorted(set(fields) - known)
+    if unknown:
+        raise ValueError(f"{guide.Label}: no case field {', '.join(unknown)}; the fields are "
+                         f"{', '.join(sorted(known))}")
+    if "Status" in fields and fields["Status"] not in STATUSES:
+        raise ValueError(f"{guide.Label}: status {fields['Status']!r}: use one of {', '.join(STATUSES)}")
+    doc = guide.Document
+    with Step(doc, "Case data"):
+        info = case_info_of(guide)
+        if info is None:
+            info = doc.addObject("App::FeaturePython", "CaseInfo")
+            CaseInfo(info)
+            info.Guide = guide
+            info.Label = f"{guide.Label} case data"
+            view_of(info, "SurgicalTemplate_CaseInfo.svg")
+        for name, value in fields.items():
+            setattr(info, name, str(value))
+    return info

@@ -15,7 +15,7 @@ from stobjects.tube import Tube
 from stviewproviders.view_feature import GUIDE_COLOUR, ViewProvider
 
 
-def _view(obj, icon):
+def view_of(obj, icon):
     if App.GuiUp:
         ViewProvider(obj.ViewObject, icon)
 
@@ -58,7 +58,7 @@ def make_boundary(bone, points, inside=None, name="Boundary"):
         if inside is not None:
             obj.Inside = App.Vector(*map(float, inside))
             obj.UseInside = True
-        _view(obj, "SurgicalTemplate_Boundary.svg")
+        view_of(obj, "SurgicalTemplate_Boundary.svg")
     return obj
 
 
@@ -76,7 +76,7 @@ def make_template(boundary, thickness=2.5, clearance=0.0, resolution=0.0, sampli
         obj.Resolution = resolution or 0.0
         obj.SamplingStep = int(sampling_step or 0)
         set_insertion(obj, insertion)
-        _view(obj, "SurgicalTemplate_Template.svg")
+        view_of(obj, "SurgicalTemplate_Template.svg")
     return obj
 
 
@@ -146,7 +146,7 @@ def make_tube(entry, direction, inner_radius=None, outer_radius=None, length=Non
             obj.CounterboreRadius, obj.CounterboreDepth = counterbore["radius"], counterbore["depth"]
         if sizes.get("name") and all(abs(given[k] - sizes[k]) < 1e-9 for k in given):
             obj.Preset = sizes["name"]
-        _view(obj, "SurgicalTemplate_Tube.svg")
+        view_of(obj, "SurgicalTemplate_Tube.svg")
         if guide is not None:
             guide.Tubes = guide.Tubes + [obj]
     return obj
@@ -165,7 +165,7 @@ def make_guide(shell, tubes=(), tolerance=0.01, name="SurgicalGuide", slots=(), 
         obj.Tolerance = tolerance
         obj.Slots = Guide.list_text(slots)
         obj.Labels = Guide.list_text(labels)
-        _view(obj, "SurgicalTemplate_Guide.svg")
+        view_of(obj, "SurgicalTemplate_Guide.svg")
         # The guide replaces its shell and sleeves in the view (they stay in the tree under it); the
         # document's own Visibility, so that a document made without the GUI opens the same way.
         for part in [shell, *tubes]:

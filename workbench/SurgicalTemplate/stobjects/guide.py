@@ -1,7 +1,8 @@
 """The surgical guide (Mesh::FeaturePython): the template shell with its tubes merged and their bores
 cut by the kernel, its saw slots (Slots: the case file's slot keys as JSON, since 0.3) cut in their
 housings and its labels (Labels: the case file's label keys as JSON) engraved or embossed, checked as a
-printable solid (how they were placed kept in PartsReport, for Validate); StabilityScore repeats its template's for expressions."""
+printable solid (how they were placed kept in PartsReport, for Validate); StabilityScore repeats its template's for expressions.
+A recompute marks the guide's drawings out of date."""
 import json
 
 import numpy as np
@@ -114,3 +115,15 @@ class Guide(Feature):
         obj.Status = f"{report['summary']}; tubes {seconds:.3f} s"
         if "StabilityScore" in obj.PropertiesList:
             obj.StabilityScore = float(getattr(shell, "StabilityScore", 0.0))
+        self.mark_drawings_out_of_date(obj)
+
+    @staticmethod
+    def mark_drawings_out_of_date(obj):
+        """The guide's drawing pages (made by stdrawing, their SurgicalGuide naming it) show it as it was:
+        marked OutOfDate, and their label says so, until a new drawing replaces them."""
+        for page in obj.Document.Objects:
+            if getattr(page, "SurgicalGuide", None) != obj.Name or "OutOfDate" not in page.PropertiesList:
+                continue
+            if not page.OutOfDate:
+                page.OutOfDate = True
+                page.Label = f"{page.Label} (out of date)"

@@ -35,6 +35,11 @@ class ViewProvider:
                 kids.append(getattr(o, name))
         if hasattr(o, "Tubes"):
             kids += list(o.Tubes)
+        if self._kind() == "Guide":
+            from stobjects.case_info import case_info_of
+            info = case_info_of(o)
+            if info is not None:
+                kids.append(info)
         return kids
 
     def onDelete(self, vobj, subelements):
