@@ -64,7 +64,7 @@ for name in os.environ["ST_CASES"].split(","):
             doc.recompute()
 
         def wider():
-            guide.Tubes[0].OuterRadius = guide.Tubes[0].OuterRadius.Value + 0.2
+            guide.Tubes[0].OuterDiameter = guide.Tubes[0].OuterDiameter.Value + 0.4
             doc.recompute()
 
         times["thickness"].append(timed(thicker)[0])

@@ -21,7 +21,7 @@ result["case"] = guide.Label
 box = guide.Mesh.BoundBox
 result["guide_box"] = [box.XMin, box.YMin, box.ZMin, box.XMax, box.YMax, box.ZMax]
 result["tubes"] = [{"name": t.Label, "offset": t.Offset.Value, "length": t.Length.Value,
-                    "inner_diameter": 2 * t.InnerRadius.Value, "outer_diameter": 2 * t.OuterRadius.Value,
+                    "inner_diameter": t.InnerDiameter.Value, "outer_diameter": t.OuterDiameter.Value,
                     "depth": t.Depth.Value}
                    for t in guide.Tubes]
 

@@ -70,7 +70,7 @@ def snapshot(doc):
     guides = [o for o in doc.Objects if kind(o) == "Guide"]
     g = guides[0]
     return {"objects": sorted(o.Label for o in doc.Objects),
-            "tubes": [[t.Label, list(t.Entry), list(t.Direction), t.Depth.Value, t.InnerRadius.Value, t.Preset]
+            "tubes": [[t.Label, list(t.Entry), list(t.Direction), t.Depth.Value, t.InnerDiameter.Value / 2, t.Preset]
                       for t in g.Tubes],
             "points": [list(p) for p in g.Shell.Boundary.Points],
             "state": list(g.State), "facets": g.Mesh.CountFacets, "volume": g.Mesh.Volume}
@@ -190,7 +190,7 @@ def work():
         result["second_point"] = {"clicks": clicks, "tubes": len(new),
                                   "direction": list(new[0].Direction) if new else None,
                                   "depth": new[0].Depth.Value if new else None,
-                                  "sizes": [new[0].InnerRadius.Value, new[0].OuterRadius.Value, new[0].Length.Value,
+                                  "sizes": [new[0].InnerDiameter.Value / 2, new[0].OuterDiameter.Value / 2, new[0].Length.Value,
                                             new[0].Offset.Value] if new else None,
                                   "preset": new[0].Preset if new else None,
                                   "kwire": [p for p in tp.presets if p["name"] == "kwire-2.0"][0]}

@@ -32,12 +32,12 @@ def answer_dialogs():
 
 
 def edit_a_tube(doc):
-    """Double-click a tube in the tree: its panel opens with its numbers; a changed outer radius shows on
+    """Double-click a tube in the tree: its panel opens with its numbers; a changed outer diameter shows on
     the guide at once; Cancel puts it back; OK keeps a change as one undo step."""
     from sttaskpanels.tube import TubePanel
     guide = [o for o in doc.Objects if kind(o) == "Guide"][0]
     tube = guide.Tubes[0]
-    r = result["edit"] = {"outer": tube.OuterRadius.Value, "volume": guide.Mesh.Volume}
+    r = result["edit"] = {"outer": tube.OuterDiameter.Value, "volume": guide.Mesh.Volume}
     TubePanel.last = None
     r["dialog_before"] = bool(Gui.Control.activeDialog())
     for _ in range(5):  # let the tree settle after the document opened
@@ -55,19 +55,19 @@ def edit_a_tube(doc):
     r["panel_outer"] = panel.fields["outer"].value()
     panel.fields["outer"].setValue(r["outer"] + 0.5)
     Gui.updateGui()
-    r["preview"] = {"outer": tube.OuterRadius.Value, "volume": guide.Mesh.Volume}
+    r["preview"] = {"outer": tube.OuterDiameter.Value, "volume": guide.Mesh.Volume}
     panel.reject()
     Gui.updateGui()
-    r["cancelled"] = {"outer": tube.OuterRadius.Value, "volume": guide.Mesh.Volume,
+    r["cancelled"] = {"outer": tube.OuterDiameter.Value, "volume": guide.Mesh.Volume,
                       "in_edit": gui_doc.getInEdit() is not None}
     undo = doc.UndoCount
     gui_doc.setEdit(tube.Name, 0)
     TubePanel.last.fields["outer"].setValue(r["outer"] + 0.3)
     TubePanel.last.accept()
     Gui.updateGui()
-    r["accepted"] = {"outer": tube.OuterRadius.Value, "undo_steps": doc.UndoCount - undo}
+    r["accepted"] = {"outer": tube.OuterDiameter.Value, "undo_steps": doc.UndoCount - undo}
     doc.undo()
-    r["undone"] = {"outer": tube.OuterRadius.Value}
+    r["undone"] = {"outer": tube.OuterDiameter.Value}
 
 
 def menus_and_toolbars(doc, guide):

@@ -49,7 +49,7 @@ result["on_bone"] = {
     "space": bone.CoordinateSystem,
     "tubes": [t.Label for t in guide.Tubes],
     "depths": [t.Depth.Value for t in guide.Tubes],
-    "inner_radii": [t.InnerRadius.Value for t in guide.Tubes],
+    "inner_radii": [t.InnerDiameter.Value / 2 for t in guide.Tubes],
     "preset_inner_radius": preset["inner_radius"],
     "point_error": max((p - App.Vector(*q)).Length for p, q in zip(boundary.Points, vertebra["boundary_points"])),
     "inside_error": (boundary.Inside - App.Vector(*vertebra["inside"])).Length,
@@ -139,7 +139,7 @@ with open(mine, "w") as f:
 presets = {p["name"]: p for p in st.sleeve_presets()}
 result["presets"] = {"names": sorted(presets), "mine": presets["my-sleeve"], "replaced": presets["pilot-2.0"]}
 tube = st.make_tube((0, 0, 0), (0, 0, -1), preset="my-sleeve", doc=csv_doc, name="T")
-result["presets"]["tube"] = [tube.InnerRadius.Value, tube.OuterRadius.Value, tube.Length.Value, tube.Offset.Value,
+result["presets"]["tube"] = [tube.InnerDiameter.Value / 2, tube.OuterDiameter.Value / 2, tube.Length.Value, tube.Offset.Value,
                              tube.Preset]
 os.remove(mine)
 

@@ -28,11 +28,11 @@ doc = guide.Document
 doc.UndoMode = 1
 measure(guide, "loaded")
 result["tree"] = {"shell": guide.Shell.Name, "tubes": [t.Label for t in guide.Tubes],
-                  "thickness": guide.Shell.Thickness.Value, "outer_radius": guide.Tubes[0].OuterRadius.Value,
+                  "thickness": guide.Shell.Thickness.Value, "outer_radius": guide.Tubes[0].OuterDiameter.Value / 2,
                   "tube_is_solid": guide.Tubes[0].Shape.isValid() and len(guide.Tubes[0].Shape.Solids) == 1,
                   "tube_volume": guide.Tubes[0].Shape.Volume}
 
-guide.Tubes[0].OuterRadius = guide.Tubes[0].OuterRadius.Value + 0.8
+guide.Tubes[0].OuterDiameter = guide.Tubes[0].OuterDiameter.Value + 1.6
 doc.recompute()
 measure(guide, "wider_sleeve")
 guide.Shell.Thickness = guide.Shell.Thickness.Value + 1.0
@@ -122,7 +122,7 @@ measure(pinned, "tibia")
 bv, bf = k.read_mesh(tibia["bone"])
 saved_tibia = json.load(open(st.save_case(pinned, os.path.join(out, "tibia-saved.json"))))
 result["tibia_tree"] = {"tubes": [t.Label for t in pinned.Tubes], "kinds": [t.Kind for t in pinned.Tubes],
-                        "counterbore": [pinned.Tubes[1].CounterboreRadius.Value, pinned.Tubes[1].CounterboreDepth.Value],
+                        "counterbore": [pinned.Tubes[1].CounterboreDiameter.Value / 2, pinned.Tubes[1].CounterboreDepth.Value],
                         "direction": [list(t.Direction) for t in pinned.Tubes],
                         "kernel_direction": list(k.pin_direction(bv, bf, tibia["tubes"][0]["entry"],
                                                                  tibia["tubes"][0]["outer_radius"])),

@@ -2,7 +2,7 @@
 
     import SurgicalTemplate as st
     guide = st.load_case("examples/cases/maxilla-implants.json")   # the whole parametric tree
-    guide.Tubes[0].OuterRadius = 2.5                                   # any parameter, then
+    guide.Tubes[0].OuterDiameter = 5.0                                 # any parameter, then
     guide.Document.recompute()
     st.export(guide, "guide.stl")
 

@@ -172,7 +172,7 @@ class _Sleeve:
         self.name = tube.Label
         self.axis = vec(tube.Direction) / np.linalg.norm(vec(tube.Direction))   # into the bone
         self.entry = vec(tube.Entry)
-        self.R, self.r = float(tube.OuterRadius.Value), float(tube.InnerRadius.Value)
+        self.R, self.r = float(tube.OuterDiameter.Value) / 2.0, float(tube.InnerDiameter.Value) / 2.0
         self.top = float(tube.Offset.Value) + float(tube.Length.Value)
         self.tol = tol
         s, rad = self.coordinates(V)

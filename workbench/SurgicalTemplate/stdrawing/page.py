@@ -423,9 +423,9 @@ def sleeve_sizes(guide):
     indices, in the order of the tubes' first appearance."""
     groups = {}
     for i, t in enumerate(guide.Tubes):
-        key = tuple(round(float(getattr(t, p).Value), 6) for p in ("InnerRadius", "OuterRadius", "Length")
+        key = tuple(round(float(getattr(t, p).Value), 6) for p in ("InnerDiameter", "OuterDiameter", "Length")
                     if hasattr(t, p))
-        key += tuple(round(float(getattr(t, p).Value), 6) for p in ("CounterboreRadius", "CounterboreDepth")
+        key += tuple(round(float(getattr(t, p).Value), 6) for p in ("CounterboreDiameter", "CounterboreDepth")
                      if hasattr(t, p))
         groups.setdefault(key, []).append(i)
     return list(groups.values())

@@ -40,8 +40,8 @@ def sleeve_rows(guide):
             "name": tube.Label, "kind": getattr(tube, "Kind", "sleeve") or "sleeve", "entry": entry, "direction": d,
             "azimuth": math.degrees(math.atan2(d[1], d[0])),
             "elevation": math.degrees(math.asin(max(-1.0, min(1.0, d[2])))),
-            "inner_diameter": 2.0 * float(tube.InnerRadius.Value),
-            "outer_diameter": 2.0 * float(tube.OuterRadius.Value),
+            "inner_diameter": float(tube.InnerDiameter.Value),
+            "outer_diameter": float(tube.OuterDiameter.Value),
             "length": length, "offset": offset, "top": entry - d * to_entry,
             "depth_to_entry": to_entry, "depth": depth, "total_depth": to_entry + depth if depth > 0 else None,
         })

@@ -80,9 +80,16 @@ def make_template(boundary, thickness=2.5, clearance=0.0, resolution=0.0, sampli
     return obj
 
 
+_RADII = {"InnerRadius": "InnerDiameter", "OuterRadius": "OuterDiameter", "CounterboreRadius": "CounterboreDiameter"}
+
+
 def edit_tube(tube, **values):
-    """Changes a tube's properties by name (InnerRadius, OuterRadius, Length, Offset, Entry, Direction,
-    Depth, ...; lengths in mm) and recomputes: one undo step. Returns the tube."""
+    """Changes a tube's properties by name (InnerDiameter, OuterDiameter, Length, Offset, Entry, Direction,
+    Depth, ...; lengths in mm) and recomputes: one undo step. Returns the tube. The radii of macros
+    written before 0.4 (InnerRadius, OuterRadius, CounterboreRadius) set the diameters."""
+    for old, new in _RADII.items():
+        if old in values and old not in tube.PropertiesList:
+            values[new] = 2.0 * float(values.pop(old))
     unknown = [k for k in values if k not in tube.PropertiesList]
     if unknown:
         raise ValueError(f"{tube.Label}: no property {', '.join(unknown)}")
@@ -113,13 +120,20 @@ def set_insertion(template, direction):
 
 
 def make_tube(entry, direction, inner_radius=None, outer_radius=None, length=None, offset=None, name="Tube",
-              doc=None, preset=None, depth=0.0, guide=None, kind=None, counterbore=None):
+              doc=None, preset=None, depth=0.0, guide=None, kind=None, counterbore=None, inner_diameter=None,
+              outer_diameter=None):
     """A drilling tube (guide sleeve) on a planned axis: entry at the bone, direction into it. Sizes
     not given come from `preset` (a name from sleeve_presets() or one of its dicts; the tube's Preset
     names it when its sizes are the preset's); depth is the planned drilling depth beyond the entry,
     for the drill protocol. kind "pin" makes a fixation pin's tube; counterbore {"radius", "depth"} a
     hole for a screw's head (both from the preset when not given). With `guide`, the tube is added to
-    it in the same undo step."""
+    it in the same undo step. Sizes by radius as in case files, or by diameter (inner_diameter,
+    outer_diameter) as the Tube's properties and the catalogues give them."""
+    for radius, diameter, what in ((inner_radius, inner_diameter, "inner"), (outer_radius, outer_diameter, "outer")):
+        if radius is not None and diameter is not None:
+            raise ValueError(f"{name}: give the {what} radius or the {what} diameter, not both")
+    inner_radius = inner_diameter / 2.0 if inner_diameter is not None else inner_radius
+    outer_radius = outer_diameter / 2.0 if outer_diameter is not None else outer_radius
     doc = guide.Document if guide is not None else document(doc)
     sizes = presets.preset(preset) if preset is not None else {}
     given = {"inner_radius": inner_radius, "outer_radius": outer_radius, "length": length, "offset": offset}
@@ -137,13 +151,13 @@ def make_tube(entry, direction, inner_radius=None, outer_radius=None, length=Non
         obj.Label = name
         obj.Entry = App.Vector(*map(float, entry))
         obj.Direction = App.Vector(*map(float, direction))
-        obj.InnerRadius, obj.OuterRadius = given["inner_radius"], given["outer_radius"]
+        obj.InnerDiameter, obj.OuterDiameter = 2.0 * given["inner_radius"], 2.0 * given["outer_radius"]
         obj.Length, obj.Offset = given["length"], given["offset"]
         obj.Depth = depth or 0.0
         obj.Kind = kind or sizes.get("kind") or "sleeve"
         counterbore = counterbore or sizes.get("counterbore")
         if counterbore:
-            obj.CounterboreRadius, obj.CounterboreDepth = counterbore["radius"], counterbore["depth"]
+            obj.CounterboreDiameter, obj.CounterboreDepth = 2.0 * counterbore["radius"], counterbore["depth"]
         if sizes.get("name") and all(abs(given[k] - sizes[k]) < 1e-9 for k in given):
             obj.Preset = sizes["name"]
         view_of(obj, "SurgicalTemplate_Tube.svg")

@@ -1,11 +1,22 @@
-"""The drilling tube (Part::FeaturePython): a guide sleeve on a planned axis (Entry, Direction, radii,
+"""The drilling tube (Part::FeaturePython): a guide sleeve on a planned axis (Entry, Direction, diameters,
 Length, Offset; Depth and Preset since 0.2; Kind and the counterbore since 0.3), its solid from the
-kernel's OpenCASCADE model."""
+kernel's OpenCASCADE model. Sizes are diameters as the catalogue, drawings and vendors give them (the case
+file keeps radii); documents from before 0.4, with radii and plain vectors, are migrated on restore."""
 import FreeCAD as App
 import Part
 
 import st_bridge
 from stobjects.base import Feature
+
+# Properties renamed in 0.4: a radius became a diameter (its value and any expression doubled).
+_RADII = (("InnerRadius", "InnerDiameter"), ("OuterRadius", "OuterDiameter"),
+          ("CounterboreRadius", "CounterboreDiameter"))
+# Properties retyped in 0.4: (name, type, tooltip); their values kept.
+_AXIS = (("Entry", "App::PropertyPosition", "Where the planned axis meets the bone (mm)"),
+         ("Direction", "App::PropertyDirection", "Drilling direction, into the bone"))
+_SIZES = {"InnerDiameter": "Bore diameter: the drill's path",
+          "OuterDiameter": "Sleeve outer diameter",
+          "CounterboreDiameter": "Diameter of the hole for a screw's head, from the sleeve's top down; 0: none"}
 
 
 class Tube(Feature):
@@ -13,11 +24,10 @@ class Tube(Feature):
 
     def __init__(self, obj):
         super().__init__(obj)
-        self.add(obj, "App::PropertyVector", "Entry", "Tube", "Where the planned axis meets the bone (mm)")
-        self.add(obj, "App::PropertyVector", "Direction", "Tube", "Drilling direction, into the bone",
-                 App.Vector(0, 0, -1))
-        self.add(obj, "App::PropertyLength", "InnerRadius", "Tube", "Bore radius: the drill's path", 1.1)
-        self.add(obj, "App::PropertyLength", "OuterRadius", "Tube", "Sleeve outer radius", 2.0)
+        self.add(obj, _AXIS[0][1], "Entry", "Tube", _AXIS[0][2])
+        self.add(obj, _AXIS[1][1], "Direction", "Tube", _AXIS[1][2], App.Vector(0, 0, -1))
+        self.add(obj, "App::PropertyLength", "InnerDiameter", "Tube", _SIZES["InnerDiameter"], 2.2)
+        self.add(obj, "App::PropertyLength", "OuterDiameter", "Tube", _SIZES["OuterDiameter"], 4.0)
         self.add(obj, "App::PropertyLength", "Length", "Tube", "Sleeve length along the axis", 5.0)
         self.add(obj, "App::PropertyLength", "Offset", "Tube",
                  "Distance from the entry back along the axis to the sleeve's lower end", 0.0)
@@ -36,25 +46,60 @@ class Tube(Feature):
             obj.addProperty("App::PropertyEnumeration", "Kind", "Tube", "What it guides: a drill or a fixation pin")
             obj.Kind = ["sleeve", "pin"]
             obj.Kind = "sleeve"
-        self.add(obj, "App::PropertyLength", "CounterboreRadius", "Tube",
-                 "Radius of the hole for a screw's head, from the sleeve's top down; 0: none", 0.0)
+        if "CounterboreRadius" not in obj.PropertiesList:   # (a 0.3 document: migrated below)
+            self.add(obj, "App::PropertyLength", "CounterboreDiameter", "Tube", _SIZES["CounterboreDiameter"], 0.0)
         self.add(obj, "App::PropertyLength", "CounterboreDepth", "Tube", "Depth of that hole", 0.0)
+
+    @staticmethod
+    def migrate_to_0_4(obj):
+        """Radii become diameters (values doubled, expressions wrapped in 2 * (...)); Entry and Direction
+        become a position and a direction. Returns the names migrated."""
+        done = []
+        expressions = {path.lstrip("."): e for path, e in obj.ExpressionEngine}
+        for old, new in _RADII:
+            if old not in obj.PropertiesList:
+                continue
+            value, expression = 2.0 * float(getattr(obj, old).Value), expressions.get(old)
+            if expression:
+                obj.setExpression(old, None)
+            obj.removeProperty(old)
+            obj.addProperty("App::PropertyLength", new, "Tube", _SIZES[new])
+            setattr(obj, new, value)
+            if expression:
+                obj.setExpression(new, f"2 * ({expression})")
+            done.append(old)
+        for name, kind, tip in _AXIS:
+            if name in obj.PropertiesList and obj.getTypeIdOfProperty(name) != kind:
+                value, expression = App.Vector(getattr(obj, name)), expressions.get(name)
+                if expression:
+                    obj.setExpression(name, None)
+                obj.removeProperty(name)
+                obj.addProperty(kind, name, "Tube", tip)
+                setattr(obj, name, value)
+                if expression:
+                    obj.setExpression(name, expression)
+                done.append(name)
+        return done
 
     def onDocumentRestored(self, obj):
         super().onDocumentRestored(obj)
         self.properties_since_0_2(obj)
+        migrated = self.migrate_to_0_4(obj)
+        if migrated:
+            App.Console.PrintMessage(f"Surgical Template: tube {obj.Label}: {', '.join(migrated)} migrated to "
+                                     "diameters and a position and direction (0.4)\n")
 
     def spec(self, obj):
         s = {"name": obj.Label, "entry": st_bridge.vec(obj.Entry), "direction": st_bridge.vec(obj.Direction),
-             "inner_radius": float(obj.InnerRadius.Value), "outer_radius": float(obj.OuterRadius.Value),
+             "inner_radius": float(obj.InnerDiameter.Value) / 2.0, "outer_radius": float(obj.OuterDiameter.Value) / 2.0,
              "length": float(obj.Length.Value), "offset": float(obj.Offset.Value)}
         depth = float(obj.Depth.Value) if hasattr(obj, "Depth") else 0.0
         if depth > 0:
             s["depth"] = depth
         if hasattr(obj, "Kind"):
             s["kind"] = obj.Kind
-            if obj.CounterboreRadius.Value > 0 or obj.CounterboreDepth.Value > 0:
-                s["counterbore"] = {"radius": float(obj.CounterboreRadius.Value),
+            if obj.CounterboreDiameter.Value > 0 or obj.CounterboreDepth.Value > 0:
+                s["counterbore"] = {"radius": float(obj.CounterboreDiameter.Value) / 2.0,
                                     "depth": float(obj.CounterboreDepth.Value)}
         return s
 

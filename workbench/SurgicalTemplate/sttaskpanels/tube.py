@@ -10,7 +10,7 @@ from stfunctions.presets import sleeve_presets
 from stfunctions.query import kind_of
 from stutils.gui_utils import leave_edit, load_form, preference, ref, run, view_of
 
-SIZES = (("inner", "InnerRadius"), ("outer", "OuterRadius"), ("length", "Length"), ("offset", "Offset"))
+SIZES = (("inner", "InnerDiameter"), ("outer", "OuterDiameter"), ("length", "Length"), ("offset", "Offset"))
 
 
 def edit_tube(tube):
@@ -43,7 +43,7 @@ class TubePanel:
             self.preset.addItem(f"{p['name']}: {p['description']}")
         self.preset.currentIndexChanged.connect(self.apply_preset)
         self.fields = {}
-        for key, default in (("inner", preference("InnerRadius", 1.1)), ("outer", preference("OuterRadius", 2.0)),
+        for key, default in (("inner", preference("InnerDiameter", 2.2)), ("outer", preference("OuterDiameter", 4.0)),
                              ("length", preference("Length", 5.0)), ("offset", preference("Offset", 3.0))):
             self.fields[key] = getattr(self.form, key)
             self.fields[key].setValue(default)
@@ -86,9 +86,9 @@ class TubePanel:
         if index <= 0:
             return
         p = self.presets[index - 1]
-        for key, field in (("inner", "inner_radius"), ("outer", "outer_radius"), ("length", "length"),
-                           ("offset", "offset")):
-            self.fields[key].setValue(p[field])
+        for key, field, times in (("inner", "inner_radius", 2.0), ("outer", "outer_radius", 2.0),
+                                  ("length", "length", 1.0), ("offset", "offset", 1.0)):
+            self.fields[key].setValue(times * p[field])
 
     def reset(self):
         self.picked = None
@@ -161,7 +161,8 @@ class TubePanel:
                 run("Edit drilling tube", f"SurgicalTemplate.edit_tube({ref(self.tube)}, {', '.join(changes)})")
             return True
         code = (f"tube = SurgicalTemplate.make_tube(({p.x:.4f}, {p.y:.4f}, {p.z:.4f}), ({d.x:.5f}, {d.y:.5f}, "
-                f"{d.z:.5f}), {f['inner']}, {f['outer']}, {f['length']}, {f['offset']}"
+                f"{d.z:.5f}), length={f['length']}, offset={f['offset']}, inner_diameter={f['inner']}, "
+                f"outer_diameter={f['outer']}"
                 + (f", depth={depth:.3f}" if depth else "") + (f", preset={preset!r}" if preset else "")
                 + (f", guide={ref(self.guide)}" if self.guide is not None else "") + ")\n")
         run("Add drilling tube", code + "App.ActiveDocument.recompute()")
