@@ -115,6 +115,30 @@ def work():
                               "coloring": guide.ViewObject.Coloring, "state": list(guide.State),
                               "removal": r["removal"] is not None and r["removal"]["removable"],
                               "removal_text": panel.form.removal.text()}
+        # The colour bar, and a click on the guide reading the map there: a facet facing the viewer.
+        view = Gui.ActiveDocument.ActiveView
+        view.fitAll()
+        Gui.updateGui()
+        towards = -App.Vector(view.getViewDirection())
+        width, height = view.getSize()
+        readings = []
+        for i, facet in enumerate(guide.Mesh.Facets):
+            if facet.Normal.dot(towards) < 0.9 or facet.Area < 0.05:
+                continue
+            centre = sum((App.Vector(*p) for p in facet.Points), App.Vector()) * (1.0 / 3.0)
+            x, y = view.getPointOnScreen(centre)
+            if not (0 < x < width and 0 < y < height):
+                continue
+            got = panel.reader.read((x, y))
+            if got is not None:
+                readings.append({"facet": got[0], "point": list(got[1]), "distance": got[2], "aimed": i,
+                                 "aimed_at": list(centre), "map": r["face_distance"][got[0]],
+                                 "text": panel.form.reading.text()})
+            if len(readings) == 3:
+                break
+        result["validate"]["readings"] = readings
+        result["validate"]["bar"] = {"stops": panel.bar.stops, "shown": panel.bar.isVisible(),
+                                     "height": panel.bar.height()}
         # The template's insertion arrow, and the undercut map the panel shows on demand.
         overlay = guide.Shell.ViewObject.Proxy.overlay
         result["validate"]["arrow"] = overlay.arrow.getNumChildren()
@@ -146,6 +170,7 @@ def work():
         path = os.path.join(out, "gui-thickness-map.png")
         view.saveImage(path, 800, 600, "White")
         result["map_shot"] = {"path": path, "green_red": colour_fractions(path)}
+        Gui.getMainWindow().grab().save(os.path.join(out, "gui-validate-window.png"))   # the panel with its bar
         panel.show_map.setChecked(False)
         result["coloring_off"] = guide.ViewObject.Coloring
         # The contacts seen along the insertion direction, the bone hidden and the thickness map off:

@@ -49,6 +49,25 @@ def test_validate_panel_inspects_and_colours_the_guide(session):
     assert session["map_after_recompute"] == 0
 
 
+def test_validate_shows_a_colour_bar_and_reads_the_map_where_clicked(session):
+    """The bar runs from the bone to beyond the outer surface with the distances marked; a click on the
+    guide reads the distance of the facet under the cursor, as the map colours it."""
+    v = session["validate"]
+    bar = v["bar"]
+    assert bar["shown"] and bar["height"] >= 150
+    distances = [d for d, _ in bar["stops"]]
+    assert distances == sorted(distances) and distances[0] < 0 < distances[1] + 1e-9
+    assert "seated" in bar["stops"][1][1] and "outer surface" in bar["stops"][3][1]
+    readings = v["readings"]
+    assert len(readings) == 3
+    for r in readings:
+        assert r["distance"] == r["map"]
+        # The facet under the cursor is the one aimed at or a neighbour sharing the spot.
+        gap = sum((a - b) ** 2 for a, b in zip(r["point"], r["aimed_at"])) ** 0.5
+        assert gap < 1.0
+        assert f"{abs(r['distance']):.2f} mm" in r["text"]
+
+
 def test_tube_from_a_preset_and_a_second_point(session):
     r = session["second_point"]
     a, b = r["clicks"]

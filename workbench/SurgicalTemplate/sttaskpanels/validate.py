@@ -1,12 +1,13 @@
 """The Validate task panel: the inspection of a guide or template (stfunctions.inspection) with its verdict,
 seating, bores, saw slots' blade paths and labels, removal and stability (score, free motions, where to press, which border to extend), the
-thickness map on the mesh with its legend, and on demand the undercut map and the contacts. Its form is
+thickness map on the mesh with its colour bar and a click reading the distance there, and on demand the undercut map and the contacts. Its form is
 Resources/ui/validate.ui."""
 import FreeCAD as App
 import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
-from stfunctions.inspection import inspect, thickness_colour
+from sttaskpanels.colour_bar import ColourBar, MapReader
+from stfunctions.inspection import inspect
 from stutils.gui_utils import load_form
 
 
@@ -71,14 +72,12 @@ class ValidatePanel:
             f.parts.resizeColumnsToContents()
         else:
             f.parts.hide()
-        t, c = r["thickness"], r["clearance"]
-        legend = ((-1.0, "in the bone"), (c, f"{c:.2f} mm: seated"), (c + t / 2, f"{c + t / 2:.2f} mm"),
-                  (c + t, f"{c + t:.2f} mm: outer surface"), (c + 2 * t, "beyond: sleeves"))
-        for i, (distance, text) in enumerate(legend):
-            colour = QtGui.QColor.fromRgbF(*thickness_colour(distance, t, c))
-            swatch = getattr(f, f"swatch{i}")
-            swatch.setText(f"  \u25a0  {text}")
-            swatch.setStyleSheet(f"color: {colour.name()}")
+        # The map's colour bar, and a click on the object reading the distance there.
+        self.bar = ColourBar(r["thickness"], r["clearance"])
+        layout = QtGui.QVBoxLayout(f.legend)
+        layout.setContentsMargins(0, 0, 0, 0)
+        layout.addWidget(self.bar)
+        self.reader = MapReader(Gui.ActiveDocument.ActiveView, obj, r["face_distance"], f.reading)
         self.show_map = f.show_map
         self.show_map.toggled.connect(lambda on: setattr(obj.ViewObject, "Coloring", bool(on)))
         # The undercut map on the template (the guide's shell): the bone it covers, hidden parts red.
@@ -126,6 +125,8 @@ class ValidatePanel:
         return int(QtGui.QDialogButtonBox.Close)
 
     def reject(self):
+        if getattr(self, "reader", None) is not None:
+            self.reader.stop()
         if getattr(self, "overlay", None) is not None:
             self.overlay.show_map(None, None, on=False)
             self.overlay.show_stability(None, on=False)
