@@ -123,9 +123,21 @@ def work():
         Gui.updateGui()
         pos = view.getPointOnScreen(App.Vector(*case["tubes"][0]["entry"]))
         result["tube_click"] = bool(tube_panel.click((int(pos[0]), int(pos[1]))))
-        tube_panel.accept()
+        # "Continue": OK adds the tube and keeps the panel for the next one; Cancel then ends it.
+        tube_panel.form.keep_going.setChecked(True)
+        closes = tube_panel.accept()
+        Gui.updateGui()
+        tubes = [o for o in doc2.Objects if getattr(getattr(o, "Proxy", None), "kind", "") == "Tube"]
+        result["continue"] = {"closes": closes, "open": bool(Gui.Control.activeDialog()), "tubes": len(tubes),
+                              "entry_text": tube_panel.entry.text(),
+                              "sizes": float(tube_panel.fields["outer"].property("rawValue"))}
+        tube_panel.reject()
+        Gui.updateGui()
+        result["continue"]["closed_by_cancel"] = not Gui.Control.activeDialog()
         templates[0].ViewObject.Visibility = True
         tubes = [o for o in doc2.Objects if getattr(getattr(o, "Proxy", None), "kind", "") == "Tube"]
+        result["continue"]["tubes_after_cancel"] = len(tubes)
+        result["continue"]["outer"] = tubes[0].OuterDiameter.Value if tubes else None
         Gui.Selection.clearSelection()
         Gui.Selection.addSelection(templates[0])
         for t in tubes:

@@ -52,8 +52,9 @@ def edit_a_tube(doc):
         panel = TubePanel.last
     gui_doc = Gui.getDocument(doc.Name)
     r["in_edit"] = gui_doc.getInEdit() is not None and gui_doc.getInEdit().Object.Name == tube.Name
-    r["panel_outer"] = panel.fields["outer"].value()
-    panel.fields["outer"].setValue(r["outer"] + 0.5)
+    r["panel_outer"] = float(panel.fields["outer"].property("rawValue"))
+    r["panel_unit"] = panel.fields["outer"].property("unit")
+    panel.fields["outer"].setProperty("rawValue", r["outer"] + 0.5)
     Gui.updateGui()
     r["preview"] = {"outer": tube.OuterDiameter.Value, "volume": guide.Mesh.Volume}
     panel.reject()
@@ -62,12 +63,84 @@ def edit_a_tube(doc):
                       "in_edit": gui_doc.getInEdit() is not None}
     undo = doc.UndoCount
     gui_doc.setEdit(tube.Name, 0)
-    TubePanel.last.fields["outer"].setValue(r["outer"] + 0.3)
+    TubePanel.last.fields["outer"].setProperty("rawValue", r["outer"] + 0.3)
     TubePanel.last.accept()
     Gui.updateGui()
     r["accepted"] = {"outer": tube.OuterDiameter.Value, "undo_steps": doc.UndoCount - undo}
     doc.undo()
     r["undone"] = {"outer": tube.OuterDiameter.Value}
+
+
+def type_an_expression(doc):
+    """In the tube's panel, the outer diameter typed as an expression as a user does: "=" in the field
+    opens FreeCAD's expression editor, "Spreadsheet.D" in it, OK; then the panel's OK. The spreadsheet
+    then drives the guide."""
+    from sttaskpanels.tube import TubePanel
+    guide = [o for o in doc.Objects if kind(o) == "Guide"][0]
+    tube = guide.Tubes[0]
+    sheet = doc.addObject("Spreadsheet::Sheet", "Spreadsheet")
+    sheet.set("A1", "4.8 mm")
+    sheet.setAlias("A1", "D")
+    doc.recompute()
+    r = result["expression"] = {"before": {"outer": tube.OuterDiameter.Value, "volume": guide.Mesh.Volume}}
+    Gui.getDocument(doc.Name).setEdit(tube.Name, 0)
+    field = TubePanel.last.fields["outer"]
+    field.setFocus()
+    QtGui.QApplication.sendEvent(field, QtGui.QKeyEvent(QtCore.QEvent.KeyPress, QtCore.Qt.Key_Equal,
+                                                        QtCore.Qt.NoModifier, "="))
+    Gui.updateGui()
+    editors = [w for w in QtGui.QApplication.allWidgets()
+               if w.metaObject().className().endswith("DlgExpressionInput") and w.isVisible()]
+    r["editor_opened"] = len(editors)
+    if editors:
+        line = [e for e in editors[0].findChildren(QtGui.QLineEdit) if e.objectName() == "expression"][0]
+        line.setText("Spreadsheet.D")
+        Gui.updateGui()
+        editors[0].accept()
+        Gui.updateGui()
+    r["field"] = {"value": float(field.property("rawValue")), "expression": field.property("expression")}
+    TubePanel.last.accept()
+    Gui.updateGui()
+    doc.recompute()
+    r["after"] = {"outer": tube.OuterDiameter.Value, "volume": guide.Mesh.Volume,
+                  "expressions": {p.lstrip("."): e for p, e in tube.ExpressionEngine}, "state": list(guide.State)}
+    sheet.set("A1", "5.2 mm")
+    doc.recompute()
+    r["sheet_changed"] = {"outer": tube.OuterDiameter.Value, "volume": guide.Mesh.Volume}
+
+
+def preferences_page():
+    """Edit > Preferences as a user opens it: the workbench's group with its icon, its page's length
+    fields unit-aware (mm), showing the stored defaults."""
+    seen = result["preferences"] = {}
+    App.ParamGet("User parameter:BaseApp/Preferences/Mod/SurgicalTemplate").SetFloat("OuterDiameter", 4.6)
+
+    def look():
+        dialog = QtGui.QApplication.activeModalWidget()
+        try:
+            items = dialog.findChildren(QtGui.QListWidget)[0]
+            for i in range(items.count()):
+                item = items.item(i)
+                if item.text() == "Surgical Template":
+                    seen["icon"] = not item.icon().isNull()
+                    items.setCurrentItem(item)
+            Gui.updateGui()
+            def text(value):
+                return bytes(value).decode() if isinstance(value, (bytes, QtCore.QByteArray)) else str(value)
+
+            boxes = [w for w in dialog.findChildren(QtGui.QAbstractSpinBox)
+                     if w.metaObject().className() == "Gui::PrefUnitSpinBox"
+                     and text(w.property("prefPath")) == "Mod/SurgicalTemplate"]
+            seen["spin_boxes"] = sorted({w.metaObject().className() for w in dialog.findChildren(QtGui.QAbstractSpinBox)})
+            seen["fields"] = {text(w.property("prefEntry")): [float(w.property("rawValue")), w.property("unit")]
+                              for w in boxes}
+        except Exception:
+            result["errors"].append(traceback.format_exc())
+        finally:
+            dialog.reject()
+
+    QtCore.QTimer.singleShot(800, look)
+    Gui.runCommand("Std_DlgPreferences")
 
 
 def menus_and_toolbars(doc, guide):
@@ -99,6 +172,8 @@ def work():
         result["visible"] = {o.Label: bool(o.ViewObject.Visibility) for o in ours}
         doc.UndoMode = 1
         edit_a_tube(doc)
+        type_an_expression(doc)
+        preferences_page()
         menus_and_toolbars(doc, guide)
         # Delete the guide as a user does (selection, Std_Delete): its shell and tubes show again.
         doc.UndoMode = 1

@@ -40,6 +40,10 @@ def test_boundary_drawn_by_clicks_gives_a_template(session):
 
 def test_tube_added_by_a_click_and_guide_created_by_the_commands(session):
     assert session["tube_click"]
+    c = session["continue"]  # OK with "Continue" adds the tube and keeps the panel for the next one
+    assert c["closes"] is False and c["open"] and c["tubes"] == 1
+    assert c["entry_text"].startswith("click the entry") and c["sizes"] == pytest.approx(c["outer"])
+    assert c["closed_by_cancel"] and c["tubes_after_cancel"] == 1
     g = session["drawn_guide"]
     assert g["tubes"] == 1 and g["guides"] == 1
     assert "Invalid" not in g["state"] and "no self-intersection" in g["status"]

@@ -67,10 +67,33 @@ def test_written_for_printing_in_each_format(made):
     assert "no sleeves" in made["export_errors"]["step_of_template"]
 
 
+def test_preferences_have_an_icon_and_unit_aware_fields(opened):
+    p = opened["preferences"]
+    assert p["icon"]
+    fields = p["fields"]
+    assert {"Thickness", "Clearance", "Resolution", "InnerDiameter", "OuterDiameter", "Length", "Offset",
+            "SlotBlade", "SlotLength", "LabelHeight", "LabelDepth"} <= set(fields)
+    assert all(unit == "mm" for _, unit in fields.values())
+    assert fields["OuterDiameter"][0] == pytest.approx(4.6)       # the stored preference shown
+
+
+def test_an_outer_diameter_typed_as_an_expression_drives_the_guide(opened):
+    """"=Spreadsheet.D" typed in the tube panel's outer diameter (FreeCAD's expression editor opens on
+    "="): the tube follows the spreadsheet, and so does the guide."""
+    e = opened["expression"]
+    assert e["editor_opened"] == 1
+    assert e["field"] == {"value": pytest.approx(4.8), "expression": "Spreadsheet.D"}
+    assert e["after"]["expressions"] == {"OuterDiameter": "Spreadsheet.D"}
+    assert e["after"]["outer"] == pytest.approx(4.8) and "Invalid" not in e["after"]["state"]
+    assert e["after"]["volume"] > e["before"]["volume"] + 1.0
+    assert e["sheet_changed"]["outer"] == pytest.approx(5.2)
+    assert e["sheet_changed"]["volume"] > e["after"]["volume"] + 1.0
+
+
 def test_double_click_on_a_tube_edits_it_with_a_live_preview(opened):
     e = opened["edit"]
     assert e["double_clicked"] and e["opened"] and e["in_edit"]
-    assert e["panel_outer"] == pytest.approx(e["outer"])
+    assert e["panel_outer"] == pytest.approx(e["outer"]) and e["panel_unit"] == "mm"
     assert e["preview"]["outer"] == pytest.approx(e["outer"] + 0.5)
     assert e["preview"]["volume"] > e["volume"] + 1.0  # the guide shows the thicker sleeve at once
     assert e["cancelled"]["outer"] == pytest.approx(e["outer"])

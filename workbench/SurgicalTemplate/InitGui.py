@@ -37,6 +37,9 @@ Gui.addWorkbench(SurgicalTemplateWorkbench())
 def _add_preferences():
     import SurgicalTemplate_paths
 
+    # The group's icon in Edit > Preferences: FreeCAD looks for preferences-<group, lower case, "_" for
+    # spaces>.svg in its icon paths.
+    Gui.addIconPath(SurgicalTemplate_paths.ICONS)
     Gui.addPreferencePage(os.path.join(SurgicalTemplate_paths.UI, "preferences.ui"), "Surgical Template")
 
 

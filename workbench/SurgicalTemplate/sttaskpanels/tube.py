@@ -10,6 +10,20 @@ from stfunctions.presets import sleeve_presets
 from stfunctions.query import kind_of
 from stutils.gui_utils import leave_edit, load_form, preference, ref, run, view_of
 
+def number(field):
+    """A quantity field's value in mm."""
+    return float(field.property("rawValue"))
+
+
+def set_number(field, value):
+    field.setProperty("rawValue", float(value))
+
+
+def expressions_of(obj):
+    """{property: expression} of an object."""
+    return {path.lstrip("."): e for path, e in obj.ExpressionEngine}
+
+
 SIZES = (("inner", "InnerDiameter"), ("outer", "OuterDiameter"), ("length", "Length"), ("offset", "Offset"))
 
 
@@ -46,7 +60,7 @@ class TubePanel:
         for key, default in (("inner", preference("InnerDiameter", 2.2)), ("outer", preference("OuterDiameter", 4.0)),
                              ("length", preference("Length", 5.0)), ("offset", preference("Offset", 3.0))):
             self.fields[key] = getattr(self.form, key)
-            self.fields[key].setValue(default)
+            set_number(self.fields[key], default)
         self.mode = self.form.mode
         self.mode.currentIndexChanged.connect(lambda _: self.reset())
         self.entry, self.axis = self.form.entry, self.form.axis
@@ -60,18 +74,28 @@ class TubePanel:
         """Fills the panel from an existing tube and previews each change on it, inside a transaction
         that OK or Cancel closes."""
         self.form.setWindowTitle(f"Edit tube {tube.Label}")
+        self.form.keep_going.hide()
+        self.bindings = {}
         for key, prop in SIZES:
-            self.fields[key].setValue(getattr(tube, prop).Value)
+            set_number(self.fields[key], getattr(tube, prop).Value)
+            # The field shows the property's expression and takes one typed after "=" (FreeCAD's
+            # expression editor), as the property editor does.
+            self.bindings[prop] = Gui.ExpressionBinding(self.fields[key])
+            self.bindings[prop].bind(tube, prop)
+        self.before_expressions = expressions_of(tube)
         depth = getattr(tube, "Depth", None)
         self.picked = (App.Vector(tube.Entry), App.Vector(tube.Direction), depth.Value if depth is not None else 0.0)
         self.show_picked()
         self.before = {prop: getattr(tube, prop).Value for _, prop in SIZES}
         self.before_axis = (App.Vector(tube.Entry), App.Vector(tube.Direction))
         for key, prop in SIZES:
-            self.fields[key].valueChanged.connect(lambda value, prop=prop: self.preview(prop, value))
+            self.fields[key].valueChanged.connect(lambda _, key=key, prop=prop: self.preview(prop, number(self.fields[key])))
 
     def preview(self, prop, value):
-        """A changed size shown on the tube and its guide at once (undone by Cancel, recorded by OK)."""
+        """A changed size shown on the tube and its guide at once (undone by Cancel, recorded by OK); a
+        size an expression drives follows it."""
+        if prop in expressions_of(self.tube) or abs(getattr(self.tube, prop).Value - value) < 1e-12:
+            return
         setattr(self.tube, prop, value)
         self.tube.Document.recompute()
 
@@ -88,7 +112,7 @@ class TubePanel:
         p = self.presets[index - 1]
         for key, field, times in (("inner", "inner_radius", 2.0), ("outer", "outer_radius", 2.0),
                                   ("length", "length", 1.0), ("offset", "offset", 1.0)):
-            self.fields[key].setValue(times * p[field])
+            set_number(self.fields[key], times * p[field])
 
     def reset(self):
         self.picked = None
@@ -140,9 +164,16 @@ class TubePanel:
                           f"direction {d.x:.3f}, {d.y:.3f}, {d.z:.3f}" + (f"; depth {depth:.1f} mm" if depth else ""))
 
     def accept(self):
-        f = {k: v.value() for k, v in self.fields.items()}  # before closing deletes the widgets
+        f = {k: number(v) for k, v in self.fields.items()}  # before closing deletes the widgets
+        typed = {prop: self.fields[key].property("expression") or None for key, prop in SIZES} \
+            if self.tube is not None else {}
         index = self.preset.currentIndex()
         preset = self.presets[index - 1]["name"] if index > 0 else ""
+        if self.tube is None and self.form.keep_going.isChecked() and self.picked is not None \
+                and self.picked[1] is not None:
+            self.add_tube(f, preset)   # and the panel stays open for the next one
+            self.reset()
+            return False
         self.view.removeEventCallback("SoMouseButtonEvent", self.callback)
         Gui.Control.closeDialog()
         leave_edit(self.tube)
@@ -154,19 +185,29 @@ class TubePanel:
         if self.tube is not None:
             # The preview undone, then the changes as recorded code: one undo step, in the macro.
             self.restore()
-            changes = [f"{prop}={f[key]}" for key, prop in SIZES if f[key] != self.before[prop]]
+            changes = [f"{prop}={f[key]}" for key, prop in SIZES
+                       if f[key] != self.before[prop] and not typed[prop]]
             if (p, d) != self.before_axis:
                 changes += [f"Entry=({p.x:.4f}, {p.y:.4f}, {p.z:.4f})", f"Direction=({d.x:.5f}, {d.y:.5f}, {d.z:.5f})"]
-            if changes:
-                run("Edit drilling tube", f"SurgicalTemplate.edit_tube({ref(self.tube)}, {', '.join(changes)})")
+            # Expressions typed, changed or cleared in the fields, as the property editor records them.
+            bound = [f"{ref(self.tube)}.setExpression({prop!r}, {typed[prop]!r})" for _, prop in SIZES
+                     if typed[prop] != self.before_expressions.get(prop)]
+            if changes or bound:
+                code = "\n".join(bound + [f"SurgicalTemplate.edit_tube({ref(self.tube)}, {', '.join(changes)})"])
+                run("Edit drilling tube", code)
             return True
+        self.add_tube(f, preset)
+        return True
+
+    def add_tube(self, f, preset):
+        """The picked tube with the panel's sizes, through recorded code (one undo step)."""
+        p, d, depth = self.picked
         code = (f"tube = SurgicalTemplate.make_tube(({p.x:.4f}, {p.y:.4f}, {p.z:.4f}), ({d.x:.5f}, {d.y:.5f}, "
                 f"{d.z:.5f}), length={f['length']}, offset={f['offset']}, inner_diameter={f['inner']}, "
                 f"outer_diameter={f['outer']}"
                 + (f", depth={depth:.3f}" if depth else "") + (f", preset={preset!r}" if preset else "")
                 + (f", guide={ref(self.guide)}" if self.guide is not None else "") + ")\n")
         run("Add drilling tube", code + "App.ActiveDocument.recompute()")
-        return True
 
     def reject(self):
         self.view.removeEventCallback("SoMouseButtonEvent", self.callback)
