@@ -109,6 +109,62 @@ def type_an_expression(doc):
     r["sheet_changed"] = {"outer": tube.OuterDiameter.Value, "volume": guide.Mesh.Volume}
 
 
+def wait(ms):
+    """Lets Qt run for a while (timers, repaints), as the user's pause does."""
+    end = QtCore.QTime.currentTime().addMSecs(ms)
+    while QtCore.QTime.currentTime() < end:
+        QtGui.QApplication.processEvents()
+        QtCore.QThread.msleep(20)
+
+
+def edit_template_and_guide(doc):
+    """Double-click the template in the tree: its panel with its numbers; a thicker template previewed on
+    the guide; Cancel puts it back; OK with a thickness and an insertion is one undo step. Double-click
+    the guide: its tolerance and parts."""
+    from sttaskpanels.parameters import ParameterPanel
+    guide = [o for o in doc.Objects if kind(o) == "Guide"][0]
+    template = guide.Shell
+    r = result["template_panel"] = {"thickness": template.Thickness.Value, "volume": guide.Mesh.Volume,
+                                    "insertion": template.Insertion}
+    ParameterPanel.last = None
+    r["double_clicked"] = tree_double_click(doc, template)
+    panel = ParameterPanel.last
+    r["opened"] = panel is not None and panel.obj == template
+    if panel is None:
+        Gui.getDocument(doc.Name).setEdit(template.Name, 0)
+        panel = ParameterPanel.last
+    r["panel"] = {"thickness": float(panel.fields["thickness"].property("rawValue")),
+                  "unit": panel.fields["thickness"].property("unit"), "insertion": panel.form.insertion.currentText()}
+    panel.fields["thickness"].setProperty("rawValue", r["thickness"] + 0.5)
+    wait(1500)
+    doc.recompute()
+    r["preview"] = {"thickness": template.Thickness.Value, "volume": guide.Mesh.Volume}
+    panel.reject()
+    Gui.updateGui()
+    r["cancelled"] = {"thickness": template.Thickness.Value, "volume": guide.Mesh.Volume,
+                      "dialog": bool(Gui.Control.activeDialog())}
+    undo = doc.UndoCount
+    Gui.getDocument(doc.Name).setEdit(template.Name, 0)
+    panel = ParameterPanel.last
+    panel.fields["thickness"].setProperty("rawValue", r["thickness"] + 0.3)
+    panel.form.insertion.setCurrentIndex(2)   # None
+    panel.accept()
+    Gui.updateGui()
+    r["accepted"] = {"thickness": template.Thickness.Value, "insertion": template.Insertion,
+                     "undo_steps": doc.UndoCount - undo, "state": list(guide.State), "volume": guide.Mesh.Volume}
+    doc.undo()
+    doc.recompute()
+    r["undone"] = {"thickness": template.Thickness.Value, "insertion": template.Insertion}
+    ParameterPanel.last = None
+    tree_double_click(doc, guide)
+    panel = ParameterPanel.last
+    r["guide_panel"] = None if panel is None else {
+        "tolerance": float(panel.fields["tolerance"].property("rawValue")), "parts": panel.form.parts.text()}
+    if panel is not None:
+        panel.reject()
+    Gui.updateGui()
+
+
 def preferences_page():
     """Edit > Preferences as a user opens it: the workbench's group with its icon, its page's length
     fields unit-aware (mm), showing the stored defaults."""
@@ -174,6 +230,7 @@ def work():
         edit_a_tube(doc)
         type_an_expression(doc)
         preferences_page()
+        edit_template_and_guide(doc)
         menus_and_toolbars(doc, guide)
         # Delete the guide as a user does (selection, Std_Delete): its shell and tubes show again.
         doc.UndoMode = 1

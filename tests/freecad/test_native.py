@@ -67,6 +67,22 @@ def test_written_for_printing_in_each_format(made):
     assert "no sleeves" in made["export_errors"]["step_of_template"]
 
 
+def test_double_click_on_template_and_guide_opens_their_panels(opened):
+    r = opened["template_panel"]
+    assert r["double_clicked"] and r["opened"]
+    assert r["panel"] == {"thickness": pytest.approx(r["thickness"]), "unit": "mm", "insertion": r["insertion"]}
+    assert r["preview"]["thickness"] == pytest.approx(r["thickness"] + 0.5)
+    assert r["preview"]["volume"] > r["volume"] * 1.05            # the thicker template on the guide
+    assert r["cancelled"]["thickness"] == pytest.approx(r["thickness"]) and not r["cancelled"]["dialog"]
+    assert r["cancelled"]["volume"] == pytest.approx(r["volume"], rel=1e-9)
+    a = r["accepted"]
+    assert a["thickness"] == pytest.approx(r["thickness"] + 0.3) and a["insertion"] == "None"
+    assert a["undo_steps"] == 1 and "Invalid" not in a["state"] and a["volume"] > r["volume"]
+    assert r["undone"] == {"thickness": pytest.approx(r["thickness"]), "insertion": r["insertion"]}
+    g = r["guide_panel"]
+    assert g["tolerance"] == pytest.approx(0.01) and "5 tube(s): 16, 13, 11, 23, 26" in g["parts"]
+
+
 def test_preferences_have_an_icon_and_unit_aware_fields(opened):
     p = opened["preferences"]
     assert p["icon"]

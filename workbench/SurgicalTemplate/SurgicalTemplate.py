@@ -25,7 +25,7 @@ from stfunctions.query import find_guide, tree_of
 from stmake.case import load_case, save_case, set_case_info
 from stmake.drawing import make_drawing
 from stmake.export import export
-from stmake.objects import (edit_tube, make_bone, make_boundary, make_final, make_guide, make_template, make_tube,
+from stmake.objects import (edit, edit_tube, make_bone, make_boundary, make_final, make_guide, make_template, make_tube,
                             set_insertion)
 from stmake.parts import add_label, add_slot
 from stmake.plan import load_plan
@@ -33,4 +33,4 @@ from stmake.step import Step as _Step  # noqa: F401  (scripts and tests group th
 
 __all__ = ["make_bone", "make_boundary", "make_template", "make_tube", "make_guide", "make_final", "export",
            "load_case", "save_case", "load_plan", "sleeve_presets", "blade_presets", "find_guide", "tree_of", "inspect", "thickness_colour", "make_drawing", "drill_protocol",
-           "add_label", "add_slot", "edit_tube", "set_case_info"]
+           "add_label", "add_slot", "edit", "edit_tube", "set_case_info"]

@@ -83,21 +83,33 @@ def make_template(boundary, thickness=2.5, clearance=0.0, resolution=0.0, sampli
 _RADII = {"InnerRadius": "InnerDiameter", "OuterRadius": "OuterDiameter", "CounterboreRadius": "CounterboreDiameter"}
 
 
+def edit(obj, **values):
+    """Changes a workbench object's properties by name and recomputes: one undo step. Lengths in mm,
+    vectors as 3 numbers; a text starting with "=" binds the property to that expression (as typed in
+    FreeCAD's property editor: "=Spreadsheet.D"), None removes a property's expression. Returns the
+    object."""
+    unknown = [k for k in values if k not in obj.PropertiesList]
+    if unknown:
+        raise ValueError(f"{obj.Label}: no property {', '.join(unknown)}")
+    with Step(obj.Document, f"Edit {obj.Label}"):
+        for name, value in values.items():
+            if value is None:
+                obj.setExpression(name, None)
+            elif isinstance(value, str) and value.startswith("="):
+                obj.setExpression(name, value[1:])
+            else:
+                setattr(obj, name, App.Vector(*value) if isinstance(value, (tuple, list)) else value)
+    obj.Document.recompute()
+    return obj
+
+
 def edit_tube(tube, **values):
-    """Changes a tube's properties by name (InnerDiameter, OuterDiameter, Length, Offset, Entry, Direction,
-    Depth, ...; lengths in mm) and recomputes: one undo step. Returns the tube. The radii of macros
-    written before 0.4 (InnerRadius, OuterRadius, CounterboreRadius) set the diameters."""
+    """edit() for a tube (InnerDiameter, OuterDiameter, Length, Offset, Entry, Direction, Depth, ...). The
+    radii of macros written before 0.4 (InnerRadius, OuterRadius, CounterboreRadius) set the diameters."""
     for old, new in _RADII.items():
         if old in values and old not in tube.PropertiesList:
             values[new] = 2.0 * float(values.pop(old))
-    unknown = [k for k in values if k not in tube.PropertiesList]
-    if unknown:
-        raise ValueError(f"{tube.Label}: no property {', '.join(unknown)}")
-    with Step(tube.Document, "Edit drilling tube"):
-        for name, value in values.items():
-            setattr(tube, name, App.Vector(*value) if isinstance(value, (tuple, list)) else value)
-    tube.Document.recompute()
-    return tube
+    return edit(tube, **values)
 
 
 def set_insertion(template, direction):

@@ -8,21 +8,8 @@ import FreeCADGui as Gui
 
 from stfunctions.presets import sleeve_presets
 from stfunctions.query import kind_of
-from stutils.gui_utils import leave_edit, load_form, preference, ref, run, view_of
-
-def number(field):
-    """A quantity field's value in mm."""
-    return float(field.property("rawValue"))
-
-
-def set_number(field, value):
-    field.setProperty("rawValue", float(value))
-
-
-def expressions_of(obj):
-    """{property: expression} of an object."""
-    return {path.lstrip("."): e for path, e in obj.ExpressionEngine}
-
+from stutils.gui_utils import (changed_values, expressions_of, leave_edit, load_form, number, preference, ref, run,
+                               set_number, view_of)
 
 SIZES = (("inner", "InnerDiameter"), ("outer", "OuterDiameter"), ("length", "Length"), ("offset", "Offset"))
 
@@ -185,16 +172,11 @@ class TubePanel:
         if self.tube is not None:
             # The preview undone, then the changes as recorded code: one undo step, in the macro.
             self.restore()
-            changes = [f"{prop}={f[key]}" for key, prop in SIZES
-                       if f[key] != self.before[prop] and not typed[prop]]
+            changes = changed_values(SIZES, f, self.before, typed, self.before_expressions)
             if (p, d) != self.before_axis:
                 changes += [f"Entry=({p.x:.4f}, {p.y:.4f}, {p.z:.4f})", f"Direction=({d.x:.5f}, {d.y:.5f}, {d.z:.5f})"]
-            # Expressions typed, changed or cleared in the fields, as the property editor records them.
-            bound = [f"{ref(self.tube)}.setExpression({prop!r}, {typed[prop]!r})" for _, prop in SIZES
-                     if typed[prop] != self.before_expressions.get(prop)]
-            if changes or bound:
-                code = "\n".join(bound + [f"SurgicalTemplate.edit_tube({ref(self.tube)}, {', '.join(changes)})"])
-                run("Edit drilling tube", code)
+            if changes:
+                run("Edit drilling tube", f"SurgicalTemplate.edit_tube({ref(self.tube)}, {', '.join(changes)})")
             return True
         self.add_tube(f, preset)
         return True

@@ -96,3 +96,29 @@ def leave_edit(obj):
             gui_doc.resetEdit()
     except Exception:  # document or object gone
         pass
+
+
+def number(field):
+    """A unit field's (Gui::QuantitySpinBox) value in mm."""
+    return float(field.property("rawValue"))
+
+
+def set_number(field, value):
+    field.setProperty("rawValue", float(value))
+
+
+def expressions_of(obj):
+    """{property: expression} of an object."""
+    return {path.lstrip("."): e for path, e in obj.ExpressionEngine}
+
+
+def changed_values(fields, values, before, typed, before_expressions):
+    """The arguments of SurgicalTemplate.edit for a panel's unit fields ((key, property) pairs): a value
+    changed by hand, an expression typed ("=..."), or an expression removed (None)."""
+    changes = []
+    for key, prop in fields:
+        if typed.get(prop) != before_expressions.get(prop):
+            changes.append(f"{prop}={'=' + typed[prop] if typed.get(prop) else None!r}")
+        elif not typed.get(prop) and values[key] != before[prop]:
+            changes.append(f"{prop}={values[key]}")
+    return changes

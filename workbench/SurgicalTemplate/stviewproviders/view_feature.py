@@ -1,5 +1,6 @@
 """The view provider of every workbench object (boundary, template, tube, guide): its icon, its
-children in the tree (shown again when it is deleted), the boundary's edit mode (the boundary task panel) and context menu, the
+children in the tree (shown again when it is deleted), its edit mode (the boundary, tube, template and
+guide task panels) and context menu, the
 thickness map's colouring turned off when a recompute drops the map, and a template's insertion arrow
 and undercut map (stviewproviders.insertion_view)."""
 import os
@@ -61,15 +62,21 @@ class ViewProvider:
         if prop == "Visibility" and getattr(self, "overlay", None) is not None:
             self.overlay.set_visible(vobj.Visibility)
 
-    # Edit mode. A boundary's editor is the boundary panel on its points (sttaskpanels.boundary.edit_boundary);
-    # a double-click in the tree enters edit mode 0 (FreeCAD's default for Part features, so there is no
-    # doubleClicked here: in 0.20 any doubleClicked, even one returning None, replaces the default for all
-    # kinds). For other kinds these return None, which leaves FreeCAD's default behaviour.
+    # Edit mode: a double-click in the tree (or Edit > Toggle edit mode) opens the object's task panel
+    # (sttaskpanels: boundary, tube, parameters). Mesh features (template, guide) open nothing on a
+    # double-click by default, so it asks for edit mode here for every kind that has a panel.
     def _kind(self):
         return getattr(getattr(getattr(self, "Object", None), "Proxy", None), "kind", "")
 
     def _editable(self):
-        return self._kind() in ("Boundary", "Tube")
+        return self._kind() in ("Boundary", "Tube", "Template", "Guide")
+
+    def doubleClicked(self, vobj):
+        if not self._editable():
+            return False
+        import FreeCADGui
+        FreeCADGui.getDocument(vobj.Object.Document.Name).setEdit(vobj.Object.Name, 0)
+        return True
 
     def setEdit(self, vobj, mode=0):
         if mode != 0 or not self._editable():
@@ -77,6 +84,9 @@ class ViewProvider:
         if self._kind() == "Tube":
             from sttaskpanels.tube import edit_tube
             return edit_tube(vobj.Object)
+        if self._kind() in ("Template", "Guide"):
+            from sttaskpanels.parameters import edit_parameters
+            return edit_parameters(vobj.Object)
         from sttaskpanels import boundary
         return boundary.edit_boundary(vobj.Object)
 
@@ -91,7 +101,9 @@ class ViewProvider:
     def setupContextMenu(self, vobj, menu):
         if self._editable():
             import FreeCADGui
-            action = menu.addAction("Edit boundary points" if self._kind() == "Boundary" else "Edit tube")
+            text = {"Boundary": "Edit boundary points", "Tube": "Edit tube", "Template": "Edit template",
+                    "Guide": "Edit guide"}[self._kind()]
+            action = menu.addAction(text)
             action.triggered.connect(
                 lambda: FreeCADGui.getDocument(vobj.Object.Document.Name).setEdit(vobj.Object.Name, 0))
 
