@@ -18,6 +18,8 @@ def install_workbench(user_data):
     target = os.path.join(user_data, "Mod", "SurgicalTemplate")
     shutil.copytree(os.path.join(ROOT, "workbench", "SurgicalTemplate"), target)  # .py, .ui, package.xml
     shutil.copytree(os.path.join(ROOT, "icons"), os.path.join(target, "icons"), dirs_exist_ok=True)
+    shutil.copytree(os.path.join(ROOT, "examples"), os.path.join(target, "examples"),
+                    ignore=shutil.ignore_patterns("__pycache__"))
     python_dir = os.environ.get("ST_PYTHON_DIR", os.path.join(os.getcwd(), "python"))
     for f in os.listdir(python_dir):
         if f.startswith("stkernel") and f.endswith(".so"):

@@ -165,6 +165,24 @@ def edit_template_and_guide(doc):
     Gui.updateGui()
 
 
+def open_an_example():
+    """Surgical Template > Open example > tibia-osteotomy: a new document with the example's guide."""
+    Gui.activateWorkbench("SurgicalTemplateWorkbench")
+    menu = [m for m in Gui.getMainWindow().menuBar().findChildren(QtGui.QMenu)
+            if m.title().replace("&", "") == "Surgical Template"][0]
+    group = [a for a in menu.actions() if a.text().replace("&", "") == "Open example"][0]
+    entries = group.menu().actions()
+    before = set(App.listDocuments())
+    [a for a in entries if a.text() == "tibia-osteotomy"][0].trigger()
+    Gui.updateGui()
+    new = [App.getDocument(n) for n in set(App.listDocuments()) - before]
+    guides = [o for d in new for o in d.Objects if kind(o) == "Guide"]
+    result["example"] = {"documents": len(new), "guides": [g.Label for g in guides],
+                         "state": list(guides[0].State) if guides else [], "facets": guides[0].Mesh.CountFacets if guides else 0}
+    for d in new:
+        App.closeDocument(d.Name)
+
+
 def preferences_page():
     """Edit > Preferences as a user opens it: the workbench's group with its icon, its page's length
     fields unit-aware (mm), showing the stored defaults."""
@@ -208,6 +226,8 @@ def menus_and_toolbars(doc, guide):
     menu = [m for m in mw.menuBar().findChildren(QtGui.QMenu) if m.title().replace("&", "") == "Surgical Template"][0]
     result["menu"] = [["", ""] if a.isSeparator() else [a.text().replace("&", ""), a.shortcut().toString()]
                       for a in menu.actions()]
+    examples = [a for a in menu.actions() if a.text().replace("&", "") == "Open example"]
+    result["examples_menu"] = [a.text() for a in examples[0].menu().actions()] if examples and examples[0].menu() else []
     result["toolbars"] = {t.windowTitle(): len([a for a in t.actions() if not a.isSeparator()])
                           for t in mw.findChildren(QtGui.QToolBar) if t.windowTitle().startswith("Surgical")}
     Gui.Selection.clearSelection()
@@ -230,6 +250,7 @@ def work():
         edit_a_tube(doc)
         type_an_expression(doc)
         preferences_page()
+        open_an_example()
         edit_template_and_guide(doc)
         menus_and_toolbars(doc, guide)
         # Delete the guide as a user does (selection, Std_Delete): its shell and tubes show again.

@@ -1,9 +1,11 @@
 """The workbench behaves like FreeCAD's own (issue 15): a document made without the GUI reopens intact in
 it, deleting a guide shows its parts again (undo restores it), File > Open and Import read cases and
 plans, and a guide is written for printing as 3MF (units kept), STL or OBJ, its sleeves as STEP."""
+import os
+
 import pytest
 
-from fc_session import run_gui, run_headless
+from fc_session import ROOT, run_gui, run_headless
 
 
 @pytest.fixture(scope="module")
@@ -130,6 +132,11 @@ def test_menu_in_groups_with_shortcuts_toolbars_and_a_context_menu(opened):
     shortcuts = dict(menu)
     assert shortcuts["Add drilling tube"] == "T, T" and shortcuts["Validate"] == "T, V"
     assert len(opened["toolbars"]) == 3 and sum(opened["toolbars"].values()) == len(texts) - 2
+    cases = [f[:-5] for f in sorted(os.listdir(os.path.join(ROOT, "examples", "cases"))) if f.endswith(".json")]
+    assert opened["examples_menu"] == cases and len(cases) >= 8
+    e = opened["example"]   # Open example > tibia-osteotomy: its guide, built
+    assert e["documents"] == 1 and e["guides"] == ["tibia-osteotomy"]
+    assert "Invalid" not in e["state"] and e["facets"] > 1000
     context = opened["context_menu"]
     for words in ("Add drilling tube", "Add saw slot from view", "Add label", "Validate", "Export for printing"):
         assert words in context, (words, context)

@@ -1,12 +1,14 @@
 # Surgical Template workbench: registered at FreeCAD's start; commands load when it is activated.
 import os
 
+import FreeCAD as App
 import FreeCADGui as Gui
 
 
 class SurgicalTemplateWorkbench(Gui.Workbench):
-    MenuText = "Surgical Template"
-    ToolTip = "Patient-specific surgical guides on bone scans: boundary, template, drilling sleeves"
+    MenuText = App.Qt.QT_TRANSLATE_NOOP("Workbench", "Surgical Template")
+    ToolTip = App.Qt.QT_TRANSLATE_NOOP("Workbench", "Patient-specific surgical guides on bone scans: boundary, "
+                                                     "template, drilling sleeves, saw slots, labels")
 
     def __init__(self):
         import SurgicalTemplate_paths  # noqa: F401  (the folder of this file, for the icon below)
@@ -40,6 +42,9 @@ def _add_preferences():
     # The group's icon in Edit > Preferences: FreeCAD looks for preferences-<group, lower case, "_" for
     # spaces>.svg in its icon paths.
     Gui.addIconPath(SurgicalTemplate_paths.ICONS)
+    # Translations (SurgicalTemplate_<language>.qm, see Resources/translations/README.md).
+    Gui.addLanguagePath(SurgicalTemplate_paths.TRANSLATIONS)
+    Gui.updateLocale()
     Gui.addPreferencePage(os.path.join(SurgicalTemplate_paths.UI, "preferences.ui"), "Surgical Template")
 
 

@@ -10,11 +10,12 @@ class Command:
     name = ""
     menu = ""
     tip = ""
+    pixmap = ""  # its icon's name when not its own (SurgicalTemplate_<name>.svg)
     accel = ""  # its shortcut (stcommands.toolbar.SHORTCUTS)
     needs_document = True
 
     def GetResources(self):
-        resources = {"Pixmap": icon(self.name), "MenuText": self.menu, "ToolTip": self.tip}
+        resources = {"Pixmap": icon(self.pixmap or self.name), "MenuText": self.menu, "ToolTip": self.tip}
         if self.accel:
             resources["Accel"] = self.accel
         return resources

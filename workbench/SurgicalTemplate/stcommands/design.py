@@ -10,12 +10,14 @@ from stfunctions.query import tree_of
 from sttaskpanels.boundary import BoundaryPanel
 from sttaskpanels.tube import TubePanel
 from sttaskpanels.validate import ValidatePanel
-from stutils.gui_utils import picked_on, preference, ref, run, selected, view_axes
+from stutils.gui_utils import QT_TRANSLATE_NOOP, picked_on, preference, ref, run, selected, view_axes
 
 
 class CreateTemplate(Command):
-    name, menu = "CreateTemplate", "Create template"
-    tip = "Design the template shell inside the selected boundary (thickness and clearance from the preferences)"
+    name, menu = "CreateTemplate", QT_TRANSLATE_NOOP("SurgicalTemplate_CreateTemplate", "Create template")
+    tip = QT_TRANSLATE_NOOP("SurgicalTemplate_CreateTemplate",
+                            "Design the template shell inside the selected boundary (thickness and "
+                            "clearance from the preferences)")
 
     def IsActive(self):
         return bool(selected("Boundary"))
@@ -29,9 +31,11 @@ class CreateTemplate(Command):
 
 
 class InsertionFromView(Command):
-    name, menu = "InsertionFromView", "Insertion from view"
-    tip = ("Set the selected template's insertion direction to the 3D view's: the guide moves onto the bone the "
-           "way you look at it; undercuts along it are blocked out and the guide checked to come off")
+    name, menu = "InsertionFromView", QT_TRANSLATE_NOOP("SurgicalTemplate_InsertionFromView", "Insertion from view")
+    tip = QT_TRANSLATE_NOOP("SurgicalTemplate_InsertionFromView",
+                            "Set the selected template's insertion direction to the 3D view's: the "
+                            "guide moves onto the bone the way you look at it; undercuts along it are"
+                            " blocked out and the guide checked to come off")
 
     def IsActive(self):
         return bool(selected("Template")) and Gui.ActiveDocument is not None
@@ -44,8 +48,10 @@ class InsertionFromView(Command):
 
 
 class CreateGuide(Command):
-    name, menu = "CreateGuide", "Create surgical guide"
-    tip = "Merge the selected drilling tubes into the selected template and cut their bores"
+    name, menu = "CreateGuide", QT_TRANSLATE_NOOP("SurgicalTemplate_CreateGuide", "Create surgical guide")
+    tip = QT_TRANSLATE_NOOP("SurgicalTemplate_CreateGuide",
+                            "Merge the selected drilling tubes into the selected template and cut "
+                            "their bores")
 
     def IsActive(self):
         return bool(selected("Template"))
@@ -58,9 +64,11 @@ class CreateGuide(Command):
 
 
 class Validate(Command):
-    name, menu = "Validate", "Validate"
-    tip = ("Inspect the selected guide or template: printable solid, seating on the bone, every bore open; "
-           "colours it by the distance from the bone (thickness map)")
+    name, menu = "Validate", QT_TRANSLATE_NOOP("SurgicalTemplate_Validate", "Validate")
+    tip = QT_TRANSLATE_NOOP("SurgicalTemplate_Validate",
+                            "Inspect the selected guide or template: printable solid, seating on the "
+                            "bone, every bore open; colours it by the distance from the bone "
+                            "(thickness map)")
 
     def IsActive(self):
         return bool(selected("Guide") or selected("Template"))
@@ -71,10 +79,12 @@ class Validate(Command):
 
 
 class DrawBoundary(Command):
-    name, menu = "DrawBoundary", "Draw boundary"
-    tip = ("Click control points around the region on the selected bone; the curve on the surface follows "
-           "live. Drag a point to move it, Delete removes the selected ones; finish with OK (Enter). "
-           "Double-click a boundary in the tree to edit its points")
+    name, menu = "DrawBoundary", QT_TRANSLATE_NOOP("SurgicalTemplate_DrawBoundary", "Draw boundary")
+    tip = QT_TRANSLATE_NOOP("SurgicalTemplate_DrawBoundary",
+                            "Click control points around the region on the selected bone; the curve "
+                            "on the surface follows live. Drag a point to move it, Delete removes the"
+                            " selected ones; finish with OK (Enter). Double-click a boundary in the "
+                            "tree to edit its points")
 
     def IsActive(self):
         return bool(selected("Bone"))
@@ -84,9 +94,11 @@ class DrawBoundary(Command):
 
 
 class AddTube(Command):
-    name, menu = "AddTube", "Add drilling tube"
-    tip = ("Add a guide sleeve: click its entry on the bone (direction: into the bone along the surface normal), "
-           "set radii and length; added to the selected guide")
+    name, menu = "AddTube", QT_TRANSLATE_NOOP("SurgicalTemplate_AddTube", "Add drilling tube")
+    tip = QT_TRANSLATE_NOOP("SurgicalTemplate_AddTube",
+                            "Add a guide sleeve: click its entry on the bone (direction: into the "
+                            "bone along the surface normal), set its diameters and length; added to "
+                            "the selected guide")
 
     def Activated(self):
         chosen = (selected("Guide") or selected("Template") or selected("Boundary") or selected("Bone") or [None])[0]
@@ -117,10 +129,11 @@ class _AtPickedPoint(Command):
 
 
 class AddLabel(_AtPickedPoint):
-    name, menu, title = "AddLabel", "Add label", "Add label"
-    tip = ("Engrave a label into the guide where you clicked it: the case's name by default, reading across "
-           "the 3D view (its up the view's up); cap height and depth from the preferences. Edit the text in "
-           "the guide's Labels")
+    name, menu, title = "AddLabel", QT_TRANSLATE_NOOP("SurgicalTemplate_AddLabel", "Add label"), "Add label"
+    tip = QT_TRANSLATE_NOOP("SurgicalTemplate_AddLabel",
+                            "Engrave a label into the guide where you clicked it: the case's name by "
+                            "default, reading across the 3D view (its up the view's up); cap height "
+                            "and depth from the preferences. Edit the text in the guide's Labels")
 
     def code(self, guide, at, look, up, right):
         return (f"SurgicalTemplate.add_label({guide}, {at}, {up}, height={preference('LabelHeight', 4.0)}, "
@@ -128,10 +141,11 @@ class AddLabel(_AtPickedPoint):
 
 
 class AddSlot(_AtPickedPoint):
-    name, menu, title = "AddSlot", "Add saw slot from view", "Add saw slot"
-    tip = ("Add a saw slot where you clicked the guide: the saw travels the way you look, the cut plane holds "
-           "the view's up (it shows as a vertical line); blade and length from the preferences. Edit it in "
-           "the guide's Slots")
+    name, menu, title = "AddSlot", QT_TRANSLATE_NOOP("SurgicalTemplate_AddSlot", "Add saw slot from view"), "Add saw slot"
+    tip = QT_TRANSLATE_NOOP("SurgicalTemplate_AddSlot",
+                            "Add a saw slot where you clicked the guide: the saw travels the way you "
+                            "look, the cut plane holds the view's up (it shows as a vertical line); "
+                            "blade and length from the preferences. Edit it in the guide's Slots")
 
     def code(self, guide, origin, look, up, right):
         blade, length = preferred_slot()

@@ -9,15 +9,18 @@ import FreeCADGui as Gui
 from PySide import QtGui
 
 import st_bridge
+import SurgicalTemplate_paths
 from stcommands.base import Command
 from stfunctions.presets import preferred_slot, sleeve_presets
 from stfunctions.query import tree_of
-from stutils.gui_utils import ref, run, selected
+from stutils.gui_utils import QT_TRANSLATE_NOOP, ref, run, selected
 
 
 class ImportBone(Command):
-    name, menu = "ImportBone", "Import bone"
-    tip = "Import a bone or dentition scan (STL, PLY, OBJ, also .gz) as the bone of a template"
+    name, menu = "ImportBone", QT_TRANSLATE_NOOP("SurgicalTemplate_ImportBone", "Import bone")
+    tip = QT_TRANSLATE_NOOP("SurgicalTemplate_ImportBone",
+                            "Import a bone or dentition scan (STL, PLY, OBJ, also .gz) as the bone of"
+                            " a template")
     needs_document = False
 
     def Activated(self):
@@ -37,14 +40,54 @@ def import_bone(path):
 
 
 class OpenCase(Command):
-    name, menu = "OpenCase", "Open case file"
-    tip = "Build the whole guide (bone, boundary, template, tubes) from a case file (surgical-template-case/1)"
+    name, menu = "OpenCase", QT_TRANSLATE_NOOP("SurgicalTemplate_OpenCase", "Open case file")
+    tip = QT_TRANSLATE_NOOP("SurgicalTemplate_OpenCase",
+                            "Build the whole guide (bone, boundary, template, tubes) from a case file"
+                            " (surgical-template-case/1)")
     needs_document = False
 
     def Activated(self):
         path, _ = QtGui.QFileDialog.getOpenFileName(Gui.getMainWindow(), "Open case", "", "Case files (*.json)")
         if path:
             open_case(path)
+
+
+def example_cases():
+    """{command name: case file} of the example cases installed with the workbench, by file name."""
+    folder = os.path.join(SurgicalTemplate_paths.EXAMPLES, "cases")
+    names = sorted(f for f in os.listdir(folder) if f.endswith(".json")) if os.path.isdir(folder) else []
+    return {"SurgicalTemplate_Example_" + os.path.splitext(f)[0].replace("-", "_"): os.path.join(folder, f)
+            for f in names}
+
+
+class OpenExample(Command):
+    """The "Open example" submenu: one command per example case (ExampleCase)."""
+    name, menu = "OpenExample", QT_TRANSLATE_NOOP("SurgicalTemplate_OpenExample", "Open example")
+    pixmap = "OpenCase"
+    tip = QT_TRANSLATE_NOOP("SurgicalTemplate_OpenExample",
+                            "Open one of the example cases installed with the workbench: its bone, plan"
+                            " and guide")
+    needs_document = False
+
+    def GetCommands(self):
+        return tuple(example_cases())
+
+    def GetResources(self):
+        return dict(super().GetResources(), DropDownMenu=True, Exclusive=False)
+
+
+class ExampleCase(Command):
+    """Opens one example case (its file name is its menu text)."""
+    pixmap = "OpenCase"
+    needs_document = False
+
+    def __init__(self, path):
+        self.path = path
+        self.menu = os.path.splitext(os.path.basename(path))[0]
+        self.tip = f"Open the example case {self.menu} ({path})"
+
+    def Activated(self):
+        open_case(self.path)
 
 
 def open_case(path):
@@ -55,9 +98,11 @@ def open_case(path):
 
 
 class ImportPlan(Command):
-    name, menu = "ImportPlan", "Import plan"
-    tip = ("Import a surgical plan onto the selected guide, template, boundary or bone: 3D Slicer markups "
-           "(.mrk.json: ClosedCurve boundary, Line axes; LPS or RAS), a CSV of axes, or a case file")
+    name, menu = "ImportPlan", QT_TRANSLATE_NOOP("SurgicalTemplate_ImportPlan", "Import plan")
+    tip = QT_TRANSLATE_NOOP("SurgicalTemplate_ImportPlan",
+                            "Import a surgical plan onto the selected guide, template, boundary or "
+                            "bone: 3D Slicer markups (.mrk.json: ClosedCurve boundary, Line axes; LPS"
+                            " or RAS), a CSV of axes, or a case file")
 
     def Activated(self):
         path, _ = QtGui.QFileDialog.getOpenFileName(
@@ -105,9 +150,10 @@ def import_plan(path, target, choose_preset):
 
 
 class MakeDrawing(Command):
-    name, menu = "Drawing", "Documentation drawing"
-    tip = ("Make the selected guide's drawing: views, each sleeve dimensioned, sleeve table; "
-           "exported as PDF and SVG with a drill protocol (.txt)")
+    name, menu = "Drawing", QT_TRANSLATE_NOOP("SurgicalTemplate_Drawing", "Documentation drawing")
+    tip = QT_TRANSLATE_NOOP("SurgicalTemplate_Drawing",
+                            "Make the selected guide's drawing: views, each sleeve dimensioned, "
+                            "sleeve table; exported as PDF and SVG with a drill protocol (.txt)")
 
     def IsActive(self):
         return bool(selected("Guide"))
@@ -121,8 +167,9 @@ class MakeDrawing(Command):
 
 
 class SaveCase(Command):
-    name, menu = "SaveCase", "Save case file"
-    tip = "Write the selected guide's plan as a case file"
+    name, menu = "SaveCase", QT_TRANSLATE_NOOP("SurgicalTemplate_SaveCase", "Save case file")
+    tip = QT_TRANSLATE_NOOP("SurgicalTemplate_SaveCase",
+                            "Write the selected guide's plan as a case file")
 
     def IsActive(self):
         return bool(selected("Guide"))
@@ -136,9 +183,11 @@ class SaveCase(Command):
 
 
 class ExportSTL(Command):
-    name, menu = "ExportSTL", "Export for printing"
-    tip = ("Write the selected template or guide for printing: 3MF (units kept; printers prefer it), STL or OBJ; "
-           "or a guide's sleeves as STEP solids for CAD")
+    name, menu = "ExportSTL", QT_TRANSLATE_NOOP("SurgicalTemplate_ExportSTL", "Export for printing")
+    tip = QT_TRANSLATE_NOOP("SurgicalTemplate_ExportSTL",
+                            "Write the selected template or guide for printing: 3MF (units kept; "
+                            "printers prefer it), STL or OBJ; or a guide's sleeves as STEP solids for"
+                            " CAD")
     FILTERS = {"3MF (*.3mf)": ".3mf", "STL (*.stl)": ".stl", "OBJ (*.obj)": ".obj",
                "STEP of the sleeves (*.step *.stp)": ".step"}
 

@@ -4,11 +4,13 @@ import FreeCADGui as Gui
 
 from stcommands.design import (AddLabel, AddSlot, AddTube, CreateGuide, CreateTemplate, DrawBoundary,
                                InsertionFromView, Validate)
-from stcommands.files import ExportSTL, ImportBone, ImportPlan, MakeDrawing, OpenCase, SaveCase
+from stcommands.files import (ExampleCase, ExportSTL, ImportBone, ImportPlan, MakeDrawing, OpenCase, OpenExample,
+                              SaveCase, example_cases)
 
 
 COMMANDS = {
     "SurgicalTemplate_OpenCase": OpenCase(),
+    "SurgicalTemplate_OpenExample": OpenExample(),
     "SurgicalTemplate_ImportPlan": ImportPlan(),
     "SurgicalTemplate_SaveCase": SaveCase(),
     "SurgicalTemplate_ImportBone": ImportBone(),
@@ -26,7 +28,7 @@ COMMANDS = {
 
 
 GROUPS = (
-    ("Case", ["SurgicalTemplate_OpenCase", "SurgicalTemplate_ImportBone", "SurgicalTemplate_ImportPlan",
+    ("Case", ["SurgicalTemplate_OpenCase", "SurgicalTemplate_OpenExample", "SurgicalTemplate_ImportBone", "SurgicalTemplate_ImportPlan",
               "SurgicalTemplate_SaveCase"]),
     ("Design", ["SurgicalTemplate_DrawBoundary", "SurgicalTemplate_CreateTemplate",
                 "SurgicalTemplate_InsertionFromView", "SurgicalTemplate_AddTube", "SurgicalTemplate_CreateGuide",
@@ -60,6 +62,8 @@ CONTEXT = {
 def register():
     """Registers the commands with their shortcuts; returns (toolbars, menu): a toolbar per group, and the
     menu's commands with separators between the groups."""
+    for name, path in example_cases().items():   # the "Open example" submenu's entries
+        Gui.addCommand(name, ExampleCase(path))
     for name, command in COMMANDS.items():
         command.accel = SHORTCUTS.get(name, "")
         Gui.addCommand(name, command)

@@ -12,6 +12,12 @@ from stfunctions.presets import PREFERENCES as PREFS
 from stobjects.base import kind_of
 
 
+# Strings marked for translation (FreeCAD's Qt helpers, in 0.20 and 1.x): commands' menu texts and tips
+# with the command's name as context, as FreeCAD translates them; the .ui forms are translated by Qt.
+QT_TRANSLATE_NOOP = App.Qt.QT_TRANSLATE_NOOP
+translate = App.Qt.translate
+
+
 def icon(name):
     return os.path.join(SurgicalTemplate_paths.ICONS, f"SurgicalTemplate_{name}.svg")
 
