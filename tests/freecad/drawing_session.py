@@ -31,6 +31,12 @@ CASE_DATA = {"CaseId": "MX-2026-0412", "Revision": "C", "Owner": "St. Anna Denta
              "Surgeon": "Dr. D. Surgeon", "ImplantSystem": "Straumann BLT 4.1", "Material": "Dental SG resin",
              "PrintingProcess": "SLA, 50 um layers"}
 info = st.set_case_info(guide, **CASE_DATA)
+if os.path.basename(case) == "maxilla-implants.json":   # its scan in 3D Slicer's LPS frame, as a user states
+    st.set_case_info(guide, PatientFrame="LPS")
+try:
+    st.set_case_info(guide, PatientFrame="XYZ")
+except ValueError as e:
+    result["frame_error"] = str(e)
 result["case_data"] = CASE_DATA
 result["case_info_made_by_load_case"] = info.Label
 try:

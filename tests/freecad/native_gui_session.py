@@ -165,6 +165,27 @@ def edit_template_and_guide(doc):
     Gui.updateGui()
 
 
+def drag_and_drop(doc):
+    """A tube dragged out of the guide in the tree leaves it (and shows); dropped back on the guide it
+    joins it again: the guide as before. Through the view providers' drag-and-drop calls the tree makes."""
+    guide = [o for o in doc.Objects if kind(o) == "Guide"][0]
+    bone = guide.Shell.Boundary.Bone
+    tube = guide.Tubes[-1]
+    doc.recompute()
+    r = result["drag_drop"] = {"tubes": len(guide.Tubes), "volume": guide.Mesh.Volume}
+    vo = guide.ViewObject
+    r["can_drag"] = bool(vo.canDragObject(tube))
+    vo.dragObject(tube)
+    Gui.updateGui()
+    r["dragged"] = {"tubes": len(guide.Tubes), "volume": guide.Mesh.Volume, "visible": tube.ViewObject.Visibility}
+    r["can_drop"] = {"tube": bool(vo.canDropObject(tube)), "bone": bool(vo.canDropObject(bone)),
+                     "template": bool(vo.canDropObject(guide.Shell))}
+    vo.dropObject(tube, None, "", [])
+    Gui.updateGui()
+    r["dropped"] = {"tubes": len(guide.Tubes), "volume": guide.Mesh.Volume, "visible": tube.ViewObject.Visibility,
+                    "state": list(guide.State)}
+
+
 def open_an_example():
     """Surgical Template > Open example > tibia-osteotomy: a new document with the example's guide."""
     Gui.activateWorkbench("SurgicalTemplateWorkbench")
@@ -251,6 +272,7 @@ def work():
         type_an_expression(doc)
         preferences_page()
         open_an_example()
+        drag_and_drop(doc)
         edit_template_and_guide(doc)
         menus_and_toolbars(doc, guide)
         # Delete the guide as a user does (selection, Std_Delete): its shell and tubes show again.

@@ -191,6 +191,19 @@ def test_numbered_balloons_keyed_to_the_sleeve_table_never_overlap(run):
         assert leaders.min() > 3.0 and leaders.max() < 60.0
 
 
+def test_views_named_anatomically_when_the_patient_frame_is_given(run, cutting):
+    """The maxilla's case data say its scan is in LPS: the views are named by the side they are seen
+    from; the tibia's do not: front, top, left."""
+    def titles(r):
+        return {v["name"]: v["text"][0] for v in r["views"] if v["name"] in ("ViewFrontTitle", "ViewTopTitle",
+                                                                              "ViewLeftTitle")}
+    assert titles(run) == {"ViewFrontTitle": "ANTERIOR  (view along +Y)", "ViewTopTitle": "SUPERIOR  (view along -Z)",
+                           "ViewLeftTitle": "RIGHT  (view along +X)"}
+    assert titles(cutting) == {"ViewFrontTitle": "FRONT  (view along +Y)", "ViewTopTitle": "TOP  (view along -Z)",
+                               "ViewLeftTitle": "LEFT  (view along +X)"}
+    assert "XYZ" in run["frame_error"] and "LPS" in run["frame_error"]
+
+
 def test_each_main_view_has_an_axis_marker_with_scan_coordinates(run, cutting):
     """Each main view shows the scan axes that lie in it, pointing the way they go in that view, from a
     foot labelled with its scan coordinates: the box corner the view puts at its lower left, rounded

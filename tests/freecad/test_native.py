@@ -69,6 +69,17 @@ def test_written_for_printing_in_each_format(made):
     assert "no sleeves" in made["export_errors"]["step_of_template"]
 
 
+def test_tubes_dragged_out_of_and_dropped_onto_a_guide(opened):
+    r = opened["drag_drop"]
+    assert r["can_drag"]
+    d = r["dragged"]
+    assert d["tubes"] == r["tubes"] - 1 and d["visible"] and d["volume"] < r["volume"] - 1.0
+    assert r["can_drop"] == {"tube": True, "bone": False, "template": False}
+    e = r["dropped"]
+    assert e["tubes"] == r["tubes"] and not e["visible"] and "Invalid" not in e["state"]
+    assert e["volume"] == pytest.approx(r["volume"], rel=1e-9)
+
+
 def test_double_click_on_template_and_guide_opens_their_panels(opened):
     r = opened["template_panel"]
     assert r["double_clicked"] and r["opened"]

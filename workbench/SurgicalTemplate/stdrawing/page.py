@@ -16,7 +16,7 @@ from stdrawing.marks import ViewFrame, axis_labels, axis_marker
 from stdrawing.marks import balloons as sleeve_balloons
 from stdrawing.protocol import sleeve_rows, slot_rows, template_info, vec
 from stdrawing.slots import dimension_slots, slot_details, slot_table
-from stobjects.case_info import CaseInfo, author_name, case_info_of
+from stobjects.case_info import CaseInfo, author_name, case_info_of, viewer_side
 
 SCALES = (20.0, 10.0, 5.0, 4.0, 3.0, 2.5, 2.0, 1.5, 1.0, 0.5, 0.4, 0.25, 0.2, 0.1)
 TEXT = 3.5            # mm, text on the page
@@ -181,7 +181,12 @@ class Builder:
         self.views = {}
         placed = []   # (object, its box on the page)
         around = []   # balloons: placed relative to their view
+        info = case_info_of(self.guide)
+        patient = CaseInfo.frame(info) if info is not None else None
         for (name, title, d, x), lines in zip(_VIEWS, shapes):
+            side = viewer_side(patient, d)
+            if side:   # e.g. "ANTERIOR  (view along +Y)"
+                title = side + title[title.index("  "):]
             shape, letters, foot, at_origin = axis_marker(lines, d, x, s)
             f = self.feature(f"DrawingLines{name}", f"{self.guide.Label} lines {name}", shape)
             cx, cy = places[name]

@@ -6,7 +6,7 @@ import FreeCAD as App
 import st_bridge
 from stmake.objects import make_bone, make_boundary, make_guide, make_template, make_tube, view_of
 from stmake.step import Step
-from stobjects.case_info import FIELDS, CaseInfo, STATUSES, case_info_of
+from stobjects.case_info import FIELDS, FRAMES, STATUSES, CaseInfo, case_info_of
 from stobjects.template import insertion_argument
 
 
@@ -67,15 +67,18 @@ def save_case(guide, path, output=None):
 def set_case_info(guide, **fields):
     """The case's document data for `guide` (its CaseInfo object, made when it has none), with `fields`
     set: Owner, DocumentType, DesignedBy, CheckedBy, ApprovedBy, CaseId, Surgeon, ImplantSystem,
-    Material, PrintingProcess, Revision (text) and Status (one of STATUSES). The drawing's title block
-    shows them. One undo step; returns the object."""
-    known = {name for name, _, _, _ in FIELDS} | {"Status"}
+    Material, PrintingProcess, Revision (text), Status (one of STATUSES) and PatientFrame ("LPS" or "RAS":
+    the bone's coordinates in that patient frame, so that the drawing names its views anatomically). The
+    drawing's title block shows them. One undo step; returns the object."""
+    known = {name for name, _, _, _ in FIELDS} | {"Status", "PatientFrame"}
     unknown = sorted(set(fields) - known)
     if unknown:
         raise ValueError(f"{guide.Label}: no case field {', '.join(unknown)}; the fields are "
                          f"{', '.join(sorted(known))}")
     if "Status" in fields and fields["Status"] not in STATUSES:
         raise ValueError(f"{guide.Label}: status {fields['Status']!r}: use one of {', '.join(STATUSES)}")
+    if "PatientFrame" in fields and fields["PatientFrame"] not in FRAMES:
+        raise ValueError(f"{guide.Label}: patient frame {fields['PatientFrame']!r}: use one of {', '.join(FRAMES)}")
     doc = guide.Document
     with Step(doc, "Case data"):
         info = case_info_of(guide)

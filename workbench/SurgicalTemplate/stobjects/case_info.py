@@ -10,6 +10,23 @@ from stobjects.base import Feature
 # ISO 7200's document statuses, in the order a document goes through them.
 STATUSES = ["In preparation", "In approval", "Released", "Withdrawn"]
 
+# The patient frame of the bone's coordinates, when the user states it: the drawing then names its views
+# anatomically. Per frame, the side of the patient each axis points to.
+FRAMES = ["Not given", "LPS", "RAS"]
+SIDES = {"LPS": ("LEFT", "POSTERIOR", "SUPERIOR"), "RAS": ("RIGHT", "ANTERIOR", "SUPERIOR")}
+OPPOSITE = {"LEFT": "RIGHT", "RIGHT": "LEFT", "POSTERIOR": "ANTERIOR", "ANTERIOR": "POSTERIOR",
+            "SUPERIOR": "INFERIOR", "INFERIOR": "SUPERIOR"}
+
+
+def viewer_side(frame, towards_viewer):
+    """The patient's side a view is seen from ("ANTERIOR", ...) in a frame (LPS, RAS), for a view whose
+    direction towards the viewer is an axis (+-X, +-Y, +-Z); None when the frame is not given."""
+    if frame not in SIDES:
+        return None
+    k = max(range(3), key=lambda i: abs(towards_viewer[i]))
+    side = SIDES[frame][k]
+    return side if towards_viewer[k] > 0 else OPPOSITE[side]
+
 # (property, title-block caption, tooltip, default); the order of the fields in the title block.
 FIELDS = (
     ("Owner", "Legal owner", "The hospital, lab or company that owns the document", ""),
@@ -51,6 +68,11 @@ class CaseInfo(Feature):
         obj.addProperty("App::PropertyEnumeration", "Status", "Document", "Document status (ISO 7200)")
         obj.Status = STATUSES
         obj.Status = STATUSES[0]
+        obj.addProperty("App::PropertyEnumeration", "PatientFrame", "Anatomy",
+                        "The patient frame of the bone's coordinates (LPS: 3D Slicer and DICOM; RAS), when known: "
+                        "the drawing then names its views anatomically (anterior, superior, ...)")
+        obj.PatientFrame = FRAMES
+        obj.PatientFrame = FRAMES[0]
 
     def execute(self, obj):
         pass
@@ -61,3 +83,7 @@ class CaseInfo(Feature):
         values = {name: str(getattr(obj, name, "")) for name, _, _, _ in FIELDS}
         values["Status"] = str(obj.Status)
         return values
+
+    @staticmethod
+    def frame(obj):
+        return str(getattr(obj, "PatientFrame", FRAMES[0]))

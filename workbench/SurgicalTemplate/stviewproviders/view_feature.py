@@ -1,6 +1,6 @@
 """The view provider of every workbench object (boundary, template, tube, guide): its icon, its
 children in the tree (shown again when it is deleted), its edit mode (the boundary, tube, template and
-guide task panels) and context menu, the
+guide task panels) and context menu, tubes dragged onto or out of a guide in the tree, the
 thickness map's colouring turned off when a recompute drops the map, and a template's insertion arrow
 and undercut map (stviewproviders.insertion_view)."""
 import os
@@ -49,6 +49,33 @@ class ViewProvider:
         for child in self.claimChildren():
             child.Visibility = True
         return True
+
+    # Drag and drop in the tree: a tube dropped on a guide joins it (its sleeve merged, its bore cut); one
+    # dragged out of a guide leaves it and shows again. FreeCAD makes each drop one undo step.
+    def canDragObjects(self):
+        return self._kind() == "Guide"
+
+    def canDragObject(self, obj):
+        return self._kind() == "Guide" and obj in self.Object.Tubes
+
+    def dragObject(self, vobj, obj):
+        guide = vobj.Object
+        guide.Tubes = [t for t in guide.Tubes if t != obj]
+        obj.Visibility = True
+        guide.Document.recompute()
+
+    def canDropObjects(self):
+        return self._kind() == "Guide"
+
+    def canDropObject(self, obj):
+        return self._kind() == "Guide" and getattr(getattr(obj, "Proxy", None), "kind", "") == "Tube" \
+            and obj not in self.Object.Tubes
+
+    def dropObject(self, vobj, obj):
+        guide = vobj.Object
+        guide.Tubes = list(guide.Tubes) + [obj]
+        obj.Visibility = False
+        guide.Document.recompute()
 
     def updateData(self, obj, prop):
         """A recompute that drops the thickness map (stobjects.base.Feature.drop_thickness_map) turns
