@@ -16,6 +16,13 @@ def finish(path, result):
     QtCore.QTimer.singleShot(0, Gui.getMainWindow().close)
 
 
+def drop_parts(guide, kind):
+    """Removes the guide's Slot or Label objects from it and from the document."""
+    for p in [p for p in guide.Parts if p.Proxy.kind == kind]:
+        guide.Parts = [q for q in guide.Parts if q != p]
+        guide.Document.removeObject(p.Name)
+
+
 def tree_double_click(doc, obj):
     """Double-clicks the object's item under its document in the tree view, as a user does."""
     found = tree_item(doc, obj)

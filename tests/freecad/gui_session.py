@@ -11,7 +11,7 @@ import FreeCADGui as Gui
 from PySide import QtCore, QtGui
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_helpers import finish, tree_double_click  # noqa: E402
+from gui_helpers import drop_parts, finish, tree_double_click  # noqa: E402
 
 out, case_path = os.environ["ST_OUT"], os.environ["ST_CASE"]
 result = {"errors": []}
@@ -207,7 +207,7 @@ def cutting_commands():
         doc = App.ActiveDocument
         doc.UndoMode = 1
         guide = [o for o in doc.Objects if getattr(getattr(o, "Proxy", None), "kind", "") == "Guide"][0]
-        guide.Labels = ""
+        drop_parts(guide, "Label")
         guide.Label = "TIB 1"  # the case's name, the label's default text (the example's is too long for it)
         doc.recompute()
         view = Gui.getDocument(doc.Name).ActiveView
@@ -218,18 +218,18 @@ def cutting_commands():
         Gui.Selection.addSelection(doc.Name, guide.Name, "Facet1", 621.0, 412.0, 350.0)
         Gui.runCommand("SurgicalTemplate_AddLabel")
         Gui.updateGui()
-        labels = json.loads(guide.Labels or "[]")
+        labels = guide.Proxy.labels_of(guide)
         r["label"] = {"texts": [l["text"] for l in labels], "state": list(guide.State), "case": guide.Label,
                       "up": labels[0]["up"] if labels else None}
-        slots_before = len(json.loads(guide.Slots or "[]"))
+        slots_before = len(guide.Proxy.slots_of(guide))
         Gui.Selection.clearSelection()
         Gui.Selection.addSelection(doc.Name, guide.Name, "Facet1", 627.0, 413.0, 366.0)
         Gui.runCommand("SurgicalTemplate_AddSlot")
         Gui.updateGui()
-        r["slot"] = {"before": slots_before, "after": len(json.loads(guide.Slots or "[]")), "state": list(guide.State)}
+        r["slot"] = {"before": slots_before, "after": len(guide.Proxy.slots_of(guide)), "state": list(guide.State)}
         doc.undo()
         doc.recompute()
-        r["after_undo"] = {"slots": len(json.loads(guide.Slots or "[]")), "labels": len(json.loads(guide.Labels or "[]"))}
+        r["after_undo"] = {"slots": len(guide.Proxy.slots_of(guide)), "labels": len(guide.Proxy.labels_of(guide))}
     finally:
         QtGui.QMessageBox.warning = warning
     return r

@@ -127,6 +127,9 @@ def edit_template_and_guide(doc):
     r = result["template_panel"] = {"thickness": template.Thickness.Value, "volume": guide.Mesh.Volume,
                                     "insertion": template.Insertion}
     ParameterPanel.last = None
+    App.setActiveDocument(doc.Name)   # (an example was opened and closed just before)
+    Gui.ActiveDocument = Gui.getDocument(doc.Name)
+    wait(300)
     r["double_clicked"] = tree_double_click(doc, template)
     panel = ParameterPanel.last
     r["opened"] = panel is not None and panel.obj == template
@@ -202,6 +205,7 @@ def open_an_example():
                          "state": list(guides[0].State) if guides else [], "facets": guides[0].Mesh.CountFacets if guides else 0}
     for d in new:
         App.closeDocument(d.Name)
+    Gui.updateGui()
 
 
 def preferences_page():

@@ -20,6 +20,13 @@ k = st_bridge.kernel()
 result = {}
 
 
+def drop_slots(guide):
+    """Removes the guide's Slot objects from it and from the document."""
+    for p in [p for p in guide.Parts if p.Proxy.kind == "Slot"]:
+        guide.Parts = [q for q in guide.Parts if q != p]
+        guide.Document.removeObject(p.Name)
+
+
 def volume_3mf(path):
     """The volume of the first object of a 3MF file, read by its XML (FreeCAD 0.20 writes 3MF but reads
     none): units and triangles as the file says."""
@@ -69,11 +76,11 @@ result["export_errors"] = errors
 # File > Open of a case builds its tree; File > Import of a plan goes on the document's bone.
 opened = st_import.open(os.path.join(examples, "cases", "tibia-segment-flap.json"))
 result["opened"] = {"kind": opened.Proxy.kind, "tubes": len(opened.Tubes),
-                    "slots": [s["name"] for s in json.loads(opened.Slots)], "state": list(opened.State)}
-opened.Slots = ""
+                    "slots": [s["name"] for s in st.slots_of(opened)], "state": list(opened.State)}
+drop_slots(opened)
 opened.Document.recompute()
 st_import.insert(os.path.join(examples, "plans", "tibia-flap-planes.mrk.json"), opened.Document.Name)
-result["inserted"] = {"slots": [s["name"] for s in json.loads(opened.Slots)], "state": list(opened.State)}
+result["inserted"] = {"slots": [s["name"] for s in st.slots_of(opened)], "state": list(opened.State)}
 try:
     st_import.open(os.path.join(examples, "plans", "vertebra-plan.mrk.json"))
     result["plan_opened_alone"] = None

@@ -16,6 +16,13 @@ k = st_bridge.kernel()
 result = {}
 
 
+def drop_slots(guide):
+    """Removes the guide's Slot objects from it and from the document."""
+    for p in [p for p in guide.Parts if p.Proxy.kind == "Slot"]:
+        guide.Parts = [q for q in guide.Parts if q != p]
+        guide.Document.removeObject(p.Name)
+
+
 def solid(obj, tag):
     path = os.path.join(out, tag + ".stl")
     st.export(obj, path)
@@ -145,13 +152,13 @@ os.remove(mine)
 
 # 7. 3D Slicer cut planes onto a cutting guide: slots whose saw travels into the bone, blade and length chosen.
 flap = st.load_case(os.path.join(examples, "cases", "tibia-segment-flap.json"))
-flap.Slots = ""
+drop_slots(flap)
 flap.Document.recompute()
 planes_path = os.path.join(examples, "plans", "tibia-flap-planes.mrk.json")
 attempt("no_blade", lambda: st.load_plan(planes_path, flap, slot_length=14), flap.Document)
 flap = st.load_plan(planes_path, flap, blade="sagittal-0.89", slot_length=14)
 attempt("taken", lambda: st.load_plan(planes_path, flap, blade=1.0, slot_length=14), flap.Document)
-slots = json.loads(flap.Slots)
+slots = st.slots_of(flap)
 saved = os.path.join(out, "flap-planes.json")
 st.save_case(flap, saved)
 result["planes"] = {"solid": solid(flap, "flap-planes"), "status": flap.Status,

@@ -158,3 +158,16 @@ def test_labels_and_slots_added_through_the_api(run):
     assert a["after_refusal"]["volume"] == pytest.approx(a["label"]["volume"], rel=1e-9)
     assert a["slot"]["name"] == "slot 3" and a["slot"]["count"] == 3 and "Invalid" not in a["slot"]["state"]
     assert a["after_undo"] == {"slots": 2, "labels": 1}
+
+
+def test_slots_and_labels_are_objects_of_their_own_with_a_blade_chooser(run):
+    """The tibia's two slots and its label are Slot and Label objects (Part features with valid shapes)
+    in the guide's Parts; a slot's BladePreset offers the catalogue's blades and sets thickness and
+    clearance."""
+    objects = run["tibia_tree"]["part_objects"]
+    assert [o[0] for o in objects] == ["Slot", "Slot", "Label"]
+    assert all(o[2] == "Part::FeaturePython" and o[3] for o in objects)
+    b = run["blade_choice"]
+    assert b["choices"][0] == "custom" and len(b["choices"]) >= 3 and b["before"][0] in b["choices"]
+    assert b["blade"] == pytest.approx(b["catalogue"]["thickness"]) and b["blade"] != pytest.approx(b["before"][1])
+    assert b["clearance"] == pytest.approx(b["catalogue"]["clearance"])

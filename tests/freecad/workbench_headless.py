@@ -126,19 +126,31 @@ result["tibia_tree"] = {"tubes": [t.Label for t in pinned.Tubes], "kinds": [t.Ki
                         "direction": [list(t.Direction) for t in pinned.Tubes],
                         "kernel_direction": list(k.pin_direction(bv, bf, tibia["tubes"][0]["entry"],
                                                                  tibia["tubes"][0]["outer_radius"])),
-                        "slots": [s["name"] for s in json.loads(pinned.Slots)],
+                        "slots": [s["name"] for s in st.slots_of(pinned)],
+                        "part_objects": [[p.Proxy.kind, p.Label, p.TypeId, p.Shape.isValid()] for p in pinned.Parts],
                         "saved_slots": [s["name"] for s in saved_tibia.get("slots", [])],
                         "saved_kinds": [t.get("kind", "sleeve") for t in saved_tibia["tubes"]],
                         "saved_counterbore": saved_tibia["tubes"][1].get("counterbore"),
-                        "labels": [l["text"] for l in json.loads(pinned.Labels)],
+                        "labels": [l["text"] for l in st.labels_of(pinned)],
                         "saved_labels": [l["text"] for l in saved_tibia.get("labels", [])]}
 # The same guide without its slots has more material: the slots are cut.
-slots_text = pinned.Slots
-pinned.Slots = ""
+parts = list(pinned.Parts)
+# A slot's blade from the catalogue: its BladePreset sets thickness and clearance (then set back).
+slot_object = [p for p in parts if p.Proxy.kind == "Slot"][0]
+before = (slot_object.BladePreset, slot_object.Blade.Value, slot_object.Clearance.Value)
+choices = slot_object.getEnumerationsOfProperty("BladePreset")
+thickness = {b["name"]: b["thickness"] for b in st.blade_presets()}
+choice = [c for c in choices[1:] if abs(thickness[c] - before[1]) > 1e-6][0]
+slot_object.BladePreset = choice
+result["blade_choice"] = {"choices": choices, "before": before, "name": choice, "blade": slot_object.Blade.Value,
+                          "clearance": slot_object.Clearance.Value,
+                          "catalogue": [b for b in st.blade_presets() if b["name"] == choice][0]}
+slot_object.BladePreset, slot_object.Blade, slot_object.Clearance = before
+pinned.Parts = [p for p in parts if p.Proxy.kind != "Slot"]
 doc_tibia = pinned.Document
 doc_tibia.recompute()
 measure(pinned, "tibia_without_slots")
-pinned.Slots = slots_text
+pinned.Parts = parts
 doc_tibia.recompute()
 result["tibia_protocol"] = st.drill_protocol(pinned)
 # Validate's slot and label rows: each blade path checked on the finished mesh; a chip of material left in
@@ -146,7 +158,7 @@ result["tibia_protocol"] = st.drill_protocol(pinned)
 checked = st.inspect(pinned, show=False)
 result["tibia_parts"] = {"rows": checked["parts"], "passed": checked["passed"]}
 import Mesh  # noqa: E402
-laid, planned = json.loads(pinned.PartsReport)["slots"][0], json.loads(pinned.Slots)[0]
+laid, planned = json.loads(pinned.PartsReport)["slots"][0], st.slots_of(pinned)[0]
 z = 0.5 * (laid["cut"][0] + laid["housing"][1])
 chip_at = [o - z * d for o, d in zip(planned["origin"], laid["direction"])]
 chipped = pinned.Mesh.copy()
@@ -160,34 +172,32 @@ result["tibia_parts"]["chipped"] = {"passed": blocked["passed"], "summary": bloc
 pinned.touch()
 pinned.Document.recompute()
 # And without its label: the engraving takes material too.
-labels_text = pinned.Labels
-pinned.Labels = ""
+pinned.Parts = [p for p in parts if p.Proxy.kind != "Label"]
 doc_tibia.recompute()
 measure(pinned, "tibia_without_labels")
-pinned.Labels = labels_text
+pinned.Parts = parts
 doc_tibia.recompute()
 # Labels and slots added through the API: one undo step each; a refused one leaves the guide as it was.
-labels_before = pinned.Labels
 volume_before = pinned.Mesh.Volume
 added = {}
 doc_tibia.UndoMode = 1
-pinned.Labels = ""
+pinned.Parts = [p for p in parts if p.Proxy.kind != "Label"]
 pinned.Label = "TIB 1"   # the case's name, the default text (the example's is too long for this guide)
 doc_tibia.recompute()
 label = st.add_label(pinned, (621.0, 412.0, 350.0), (0, 0, 1), height=3.5)
-added["label"] = {"text": label["text"], "name": label["name"], "count": len(json.loads(pinned.Labels)),
+added["label"] = {"text": label["text"], "name": label["name"], "count": len(st.labels_of(pinned)),
                   "state": list(pinned.State), "volume": pinned.Mesh.Volume}
 try:
     st.add_label(pinned, (621.0, 412.0, 359.0), (0, 0, 1), text="NEAR")
     added["refused"] = None
 except RuntimeError as e:
     added["refused"] = str(e)
-added["after_refusal"] = {"count": len(json.loads(pinned.Labels)), "state": list(pinned.State),
+added["after_refusal"] = {"count": len(st.labels_of(pinned)), "objects": len(doc_tibia.Objects), "state": list(pinned.State),
                           "volume": pinned.Mesh.Volume}
 slot = st.add_slot(pinned, (617.0, 411.9, 369.0), (0, 0, 1), (0, 1, 0), blade=0.6, length=12, closed=["start"])
-added["slot"] = {"name": slot["name"], "count": len(json.loads(pinned.Slots)), "state": list(pinned.State)}
+added["slot"] = {"name": slot["name"], "count": len(st.slots_of(pinned)), "state": list(pinned.State)}
 doc_tibia.undo()
 doc_tibia.recompute()
-added["after_undo"] = {"slots": len(json.loads(pinned.Slots)), "labels": len(json.loads(pinned.Labels))}
+added["after_undo"] = {"slots": len(st.slots_of(pinned)), "labels": len(st.labels_of(pinned))}
 result["added"] = added
 print("RESULT " + json.dumps(result))

@@ -30,7 +30,11 @@ from stmake.objects import (edit, edit_tube, make_bone, make_boundary, make_fina
 from stmake.parts import add_label, add_slot
 from stmake.plan import load_plan
 from stmake.step import Step as _Step  # noqa: F401  (scripts and tests group their changes in one undo step)
+from stobjects.guide import Guide as _Guide
+
+slots_of = _Guide.slots_of     # a guide's saw slots as the case file's keys (its Slot objects)
+labels_of = _Guide.labels_of   # a guide's labels as the case file's keys (its Label objects)
 
 __all__ = ["make_bone", "make_boundary", "make_template", "make_tube", "make_guide", "make_final", "export",
            "load_case", "save_case", "load_plan", "sleeve_presets", "blade_presets", "find_guide", "tree_of", "inspect", "thickness_colour", "make_drawing", "drill_protocol",
-           "add_label", "add_slot", "edit", "edit_tube", "set_case_info"]
+           "add_label", "add_slot", "edit", "edit_tube", "set_case_info", "slots_of", "labels_of"]

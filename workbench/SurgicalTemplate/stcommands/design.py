@@ -133,7 +133,7 @@ class AddLabel(_AtPickedPoint):
     tip = QT_TRANSLATE_NOOP("SurgicalTemplate_AddLabel",
                             "Engrave a label into the guide where you clicked it: the case's name by "
                             "default, reading across the 3D view (its up the view's up); cap height "
-                            "and depth from the preferences. Edit the text in the guide's Labels")
+                            "and depth from the preferences. Edit it as the Label object under the guide")
 
     def code(self, guide, at, look, up, right):
         return (f"SurgicalTemplate.add_label({guide}, {at}, {up}, height={preference('LabelHeight', 4.0)}, "
@@ -145,7 +145,8 @@ class AddSlot(_AtPickedPoint):
     tip = QT_TRANSLATE_NOOP("SurgicalTemplate_AddSlot",
                             "Add a saw slot where you clicked the guide: the saw travels the way you "
                             "look, the cut plane holds the view's up (it shows as a vertical line); "
-                            "blade and length from the preferences. Edit it in the guide's Slots")
+                            "blade and length from the preferences. Edit it as the Slot object under the guide (its BladePreset "
+                            "chooses a blade)")
 
     def code(self, guide, origin, look, up, right):
         blade, length = preferred_slot()

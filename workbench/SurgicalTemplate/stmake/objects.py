@@ -10,6 +10,7 @@ from stfunctions import presets
 from stmake.step import Step, document
 from stobjects.boundary import Boundary
 from stobjects.guide import Guide
+from stobjects.parts import CLOSED, Label, Slot, outward_normal
 from stobjects.template import Template
 from stobjects.tube import Tube
 from stviewproviders.view_feature import GUIDE_COLOUR, ViewProvider
@@ -189,9 +190,11 @@ def make_guide(shell, tubes=(), tolerance=0.01, name="SurgicalGuide", slots=(), 
         obj.Shell = shell
         obj.Tubes = list(tubes)
         obj.Tolerance = tolerance
-        obj.Slots = Guide.list_text(slots)
-        obj.Labels = Guide.list_text(labels)
         view_of(obj, "SurgicalTemplate_Guide.svg")
+        for item in slots:
+            make_slot(obj, item)
+        for item in labels:
+            make_label(obj, item)
         # The guide replaces its shell and sleeves in the view (they stay in the tree under it); the
         # document's own Visibility, so that a document made without the GUI opens the same way.
         for part in [shell, *tubes]:
@@ -202,3 +205,55 @@ def make_guide(shell, tubes=(), tolerance=0.01, name="SurgicalGuide", slots=(), 
 
 
 make_final = make_guide
+
+
+def make_slot(guide, item):
+    """A Slot object from a slot dict (the case file's keys), added to the guide's Parts (no recompute)."""
+    doc = guide.Document
+    obj = doc.addObject("Part::FeaturePython", "Slot")
+    Slot(obj)
+    obj.Label = item["name"]
+    obj.Origin = App.Vector(*map(float, item["origin"]))
+    obj.Normal = App.Vector(*map(float, item["normal"]))
+    obj.Travel = App.Vector(*map(float, item["direction"])) if item.get("direction") is not None else App.Vector()
+    obj.Blade = float(item["blade"])
+    for key, prop in (("clearance", "Clearance"), ("length", "Length"), ("height", "Height"), ("wall", "Wall")):
+        if item.get(key) is not None:
+            setattr(obj, prop, float(item[key]))
+    closed = sorted(item.get("closed", ["start", "end"]))
+    obj.Closed = [k for k, v in CLOSED.items() if sorted(v) == closed][0]
+    blades = presets.blade_presets()
+    Slot.set_blades(obj, blades)
+    same = [b["name"] for b in blades if abs(b["thickness"] - obj.Blade.Value) < 1e-9
+            and abs(b["clearance"] - obj.Clearance.Value) < 1e-9]
+    obj.BladePreset = same[0] if same else "custom"
+    _attach(guide, obj, "SurgicalTemplate_Slot.svg")
+    return obj
+
+
+def make_label(guide, item):
+    """A Label object from a label dict (the case file's keys), added to the guide's Parts (no recompute);
+    it faces out of the bone at its place."""
+    doc = guide.Document
+    obj = doc.addObject("Part::FeaturePython", "Label")
+    Label(obj)
+    obj.Label = item.get("name") or f"label {len(Guide.labels_of(guide)) + 1}"
+    obj.Text = item["text"]
+    obj.At = App.Vector(*map(float, item["at"]))
+    obj.Up = App.Vector(*map(float, item["up"]))
+    for key, prop in (("height", "Height"), ("depth", "Depth")):
+        if item.get(key) is not None:
+            setattr(obj, prop, float(item[key]))
+    obj.Mode = item.get("mode", "engrave")
+    shell = guide.Shell
+    bone = shell.Boundary.Bone if shell is not None and shell.Boundary is not None else None
+    if bone is not None:
+        obj.Facing = outward_normal(bone, item["at"])
+    _attach(guide, obj, "SurgicalTemplate_Label.svg")
+    return obj
+
+
+def _attach(guide, obj, icon):
+    guide.Parts = list(guide.Parts) + [obj]
+    obj.Visibility = False   # the guide shows it built; the object stays in the tree under the guide
+    view_of(obj, icon)

@@ -1,5 +1,5 @@
-"""What a cutting guide carries besides its tubes: saw slots and labels, kept on the Guide as the case
-file's keys (its Slots and Labels properties). Adding one recomputes the guide; when the kernel refuses
+"""What a cutting guide carries besides its tubes: saw slots and labels, Slot and Label objects in the
+guide's Parts (stobjects.parts), made from the case file's keys. Adding one recomputes the guide; when the kernel refuses
 it (off the template, too close to a sleeve, blade path blocked, ...), the guide is left as it was and
 the kernel's message is raised, naming the part and the place.
 
@@ -9,6 +9,7 @@ the kernel's message is raised, naming the part and the place.
 """
 import numpy as np
 
+from stmake.objects import make_label, make_slot
 from stmake.step import Step
 from stobjects.guide import Guide
 
@@ -24,44 +25,43 @@ def _unique(names, stem):
     return f"{stem} {k}"
 
 
-def _add(guide, prop, item, title):
-    """Appends `item` to the guide's JSON list `prop` and recomputes; on refusal restores the list."""
+def _add(guide, make, item, title):
+    """Adds a part (make_slot, make_label) to the guide and recomputes; on refusal removes it again."""
     if getattr(guide, "Proxy", None) is None or not isinstance(guide.Proxy, Guide):
         raise ValueError(f"{getattr(guide, 'Label', guide)}: not a surgical guide")
     doc = guide.Document
-    before = getattr(guide, prop)
-    items = Guide.list_of(guide, prop) + [item]
     with Step(doc, title):
-        setattr(guide, prop, Guide.list_text(items))
+        obj = make(guide, item)
         doc.recompute()
         if "Invalid" in guide.State or "Error" in guide.State:
             status = guide.Status if guide.Status.startswith("failed: ") else ""
-            setattr(guide, prop, before)
+            guide.Parts = [p for p in guide.Parts if p != obj]
+            doc.removeObject(obj.Name)
             doc.recompute()
             raise RuntimeError(f"{title} on {guide.Label} failed: {status[len('failed: '):] or 'the kernel refused it'}")
-    return item
+    return dict(item, name=obj.Label)
 
 
 def add_label(guide, at, up, text=None, height=4.0, depth=0.6, mode="engrave", name=None):
-    """Adds a label to the guide: `text` (default: the case's name, the guide's label) centred near `at`
-    on the outer surface, reading with `up` up; cap height and depth in mm; mode "engrave" or "emboss".
-    One undo step. Returns the label's dict (the case file's keys)."""
+    """Adds a label to the guide (a Label object in its Parts): `text` (default: the case's name, the
+    guide's label) centred near `at` on the outer surface, reading with `up` up; cap height and depth in
+    mm; mode "engrave" or "emboss". One undo step. Returns the label's dict (the case file's keys)."""
     labels = Guide.labels_of(guide)
     item = {"name": name or _unique({l.get("name") for l in labels}, "label"),
             "text": text if text is not None else guide.Label, "at": _plain(at), "up": _plain(up),
             "height": float(height), "depth": float(depth), "mode": mode}
-    return _add(guide, "Labels", item, "Add label")
+    return _add(guide, make_label, item, "Add label")
 
 
 def add_slot(guide, origin, normal, direction, blade, length, clearance=0.1, height=5.0, wall=3.0,
              closed=("start", "end"), name=None):
-    """Adds a saw slot to the guide: the cut plane through `origin` with `normal`, the saw travelling along
-    `direction` (into the bone), a blade `blade` mm thick with `clearance` on each side, `length` mm across,
-    its housing `height` over the template with walls `wall` thick, `closed` ends. One undo step. Returns
-    the slot's dict (the case file's keys)."""
+    """Adds a saw slot to the guide (a Slot object in its Parts): the cut plane through `origin` with
+    `normal`, the saw travelling along `direction` (into the bone), a blade `blade` mm thick with
+    `clearance` on each side, `length` mm across, its housing `height` over the template with walls `wall`
+    thick, `closed` ends. One undo step. Returns the slot's dict (the case file's keys)."""
     slots = Guide.slots_of(guide)
     item = {"name": name or _unique({s.get("name") for s in slots}, "slot"), "origin": _plain(origin),
             "normal": _plain(normal), "direction": _plain(direction), "blade": float(blade),
             "clearance": float(clearance), "length": float(length), "height": float(height), "wall": float(wall),
             "closed": list(closed)}
-    return _add(guide, "Slots", item, "Add saw slot")
+    return _add(guide, make_slot, item, "Add saw slot")

@@ -6,6 +6,7 @@ from stfunctions import presets
 from stfunctions.query import tree_of
 from stmake.case import load_case
 from stmake.objects import make_boundary, make_guide, make_template, make_tube, vectors
+from stmake.parts import make_slot
 from stmake.step import Step
 from stobjects.base import kind_of
 from stobjects.guide import Guide
@@ -78,6 +79,7 @@ def load_plan(path, target=None, preset=None, thickness=None, blade=None, slot_l
                 guide = make_guide(shell, added, slots=slots)
             else:
                 guide.Tubes = guide.Tubes + added
-                guide.Slots = Guide.list_text(Guide.slots_of(guide) + slots)
+                for s in slots:
+                    make_slot(guide, s)
     doc.recompute()
     return guide or shell or boundary

@@ -1,6 +1,7 @@
 """The surgical guide (Mesh::FeaturePython): the template shell with its tubes merged and their bores
-cut by the kernel, its saw slots (Slots: the case file's slot keys as JSON, since 0.3) cut in their
-housings and its labels (Labels: the case file's label keys as JSON) engraved or embossed, checked as a
+cut by the kernel, its saw slots cut in their housings and its labels engraved or embossed (its Parts:
+Slot and Label objects, since 0.4; documents of 0.3 keep them as the case file's keys in JSON, Slots and
+Labels), checked as a
 printable solid (how they were placed kept in PartsReport, for Validate); StabilityScore repeats its template's for expressions.
 A recompute marks the guide's drawings out of date."""
 import json
@@ -35,6 +36,12 @@ class Guide(Feature):
         self.add(obj, "App::PropertyString", "PartsReport", "Result",
                  "How the kernel placed the slots and labels at the last recompute (its report's slots and "
                  "labels, JSON), for Validate", "", hidden=True)
+        self.properties_since_0_4(obj)
+
+    def properties_since_0_4(self, obj):
+        self.add(obj, "App::PropertyLinkList", "Parts", "Guide",
+                 "Its saw slots and labels (Slot and Label objects); Slots and Labels hold those of documents "
+                 "made before 0.4")
 
     def onDocumentRestored(self, obj):
         super().onDocumentRestored(obj)
@@ -64,14 +71,19 @@ class Guide(Feature):
         return items
 
     @staticmethod
+    def parts_of(obj, kind):
+        """The guide's Slot or Label objects."""
+        return [p for p in getattr(obj, "Parts", []) if getattr(getattr(p, "Proxy", None), "kind", "") == kind]
+
+    @staticmethod
     def slots_of(obj):
-        """The guide's slot dicts (case file keys)."""
-        return Guide.list_of(obj, "Slots")
+        """The guide's slot dicts (case file keys): its Slot objects' and those kept as JSON."""
+        return Guide.list_of(obj, "Slots") + [p.Proxy.spec(p) for p in Guide.parts_of(obj, "Slot")]
 
     @staticmethod
     def labels_of(obj):
-        """The guide's label dicts (case file keys)."""
-        return Guide.list_of(obj, "Labels")
+        """The guide's label dicts (case file keys): its Label objects' and those kept as JSON."""
+        return Guide.list_of(obj, "Labels") + [p.Proxy.spec(p) for p in Guide.parts_of(obj, "Label")]
 
     @staticmethod
     def placed_of(obj):

@@ -36,6 +36,7 @@ class ViewProvider:
                 kids.append(getattr(o, name))
         if hasattr(o, "Tubes"):
             kids += list(o.Tubes)
+        kids += list(getattr(o, "Parts", []))
         if self._kind() == "Guide":
             from stobjects.case_info import case_info_of
             info = case_info_of(o)
@@ -50,17 +51,19 @@ class ViewProvider:
             child.Visibility = True
         return True
 
-    # Drag and drop in the tree: a tube dropped on a guide joins it (its sleeve merged, its bore cut); one
-    # dragged out of a guide leaves it and shows again. FreeCAD makes each drop one undo step.
+    # Drag and drop in the tree: a tube, slot or label dropped on a guide joins it (a sleeve merged and its
+    # bore cut, a slot cut in its housing, a label engraved); one dragged out of a guide leaves it and shows
+    # again. FreeCAD makes each drop one undo step.
     def canDragObjects(self):
         return self._kind() == "Guide"
 
     def canDragObject(self, obj):
-        return self._kind() == "Guide" and obj in self.Object.Tubes
+        return self._kind() == "Guide" and (obj in self.Object.Tubes or obj in getattr(self.Object, "Parts", []))
 
     def dragObject(self, vobj, obj):
         guide = vobj.Object
         guide.Tubes = [t for t in guide.Tubes if t != obj]
+        guide.Parts = [p for p in guide.Parts if p != obj]
         obj.Visibility = True
         guide.Document.recompute()
 
@@ -68,12 +71,17 @@ class ViewProvider:
         return self._kind() == "Guide"
 
     def canDropObject(self, obj):
-        return self._kind() == "Guide" and getattr(getattr(obj, "Proxy", None), "kind", "") == "Tube" \
-            and obj not in self.Object.Tubes
+        kind = getattr(getattr(obj, "Proxy", None), "kind", "")
+        g = self.Object
+        return self._kind() == "Guide" and kind in ("Tube", "Slot", "Label") and obj not in g.Tubes \
+            and obj not in getattr(g, "Parts", [])
 
     def dropObject(self, vobj, obj):
         guide = vobj.Object
-        guide.Tubes = list(guide.Tubes) + [obj]
+        if getattr(getattr(obj, "Proxy", None), "kind", "") == "Tube":
+            guide.Tubes = list(guide.Tubes) + [obj]
+        else:
+            guide.Parts = list(guide.Parts) + [obj]
         obj.Visibility = False
         guide.Document.recompute()
 
@@ -160,7 +168,8 @@ def restore_view(obj):
     # Without a GuiDocument.xml entry the GUI hides what it restores once the document is read; shown
     # then as make_guide leaves it: a guide's shell and tubes hidden under it, everything else shown.
     under_a_guide = any(getattr(getattr(o, "Proxy", None), "kind", "") == "Guide" and
-                        (o.Shell == obj or obj in o.Tubes) for o in obj.Document.Objects)
+                        (o.Shell == obj or obj in o.Tubes or obj in getattr(o, "Parts", []))
+                        for o in obj.Document.Objects)
     from PySide import QtCore
     QtCore.QTimer.singleShot(0, lambda: setattr(obj.ViewObject, "Visibility", not under_a_guide))
     if kind == "Guide":
