@@ -5,6 +5,7 @@
 #include "helpers.h"
 
 #include "st/core/aabb_tree.h"
+#include "st/core/float32.h"
 #include "st/design/insertion.h"
 #include "st/design/template_design.h"
 #include "st/io/case_file.h"
@@ -38,7 +39,7 @@ TriangleMesh revolve(const std::vector<std::array<double, 2>>& profile, int segm
     }
   m.positions.emplace_back(0.0, 0.0, profile.back()[1]);
   // As a mesh file holds it (float32): a guide at zero clearance then copies the bone exactly.
-  for (Vec3& p : m.positions) p = p.cast<float>().cast<double>();
+  round_to_float32(m);
   auto id = [segments](int i, int j) { return static_cast<Index>(i * segments + (j % segments)); };
   const Index centre = m.vertex_count() - 1;
   for (int i = 0; i + 1 < n; ++i)

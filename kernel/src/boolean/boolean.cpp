@@ -3,6 +3,7 @@
 #include "boolean/corefinement.h"
 #include "detail/format.h"
 #include "st/core/errors.h"
+#include "st/core/float32.h"
 #include "st/core/topology.h"
 
 #include <Eigen/Eigenvalues>
@@ -63,9 +64,9 @@ BooleanResult mesh_boolean(const TriangleMesh& a, const TriangleMesh& b, Boolean
     std::optional<TriangleMesh> copy;
     if (!options.round_to_float) return copy;
     for (const Vec3& p : m.positions)
-      if (p != p.cast<float>().cast<double>()) {
+      if (!is_float32(p)) {
         copy = m;
-        for (Vec3& q : copy->positions) q = q.cast<float>().cast<double>();
+        round_to_float32(*copy);
         break;
       }
     return copy;
@@ -88,7 +89,7 @@ BooleanResult mesh_boolean(const TriangleMesh& a, const TriangleMesh& b, Boolean
       moved = second_input;
       for (Vec3& p : moved.positions) {
         p += kick;
-        if (options.round_to_float) p = p.cast<float>().cast<double>();
+        if (options.round_to_float) p = to_float32(p);
       }
       second = &moved;
     }

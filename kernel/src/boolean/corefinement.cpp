@@ -7,6 +7,7 @@
 #include "st/boolean/triangle_intersection.h"
 #include "st/core/aabb_tree.h"
 #include "st/core/errors.h"
+#include "st/core/float32.h"
 #include "st/core/predicates.h"
 #include "st/core/topology.h"
 #include "st/core/union_find.h"
@@ -87,9 +88,10 @@ private:
     const Index id = static_cast<Index>(points_.size());
     Vec3 at = p + t * (q - p);
     // Rounded now, so that every face is triangulated with the coordinates the result will hold.
-    if (options_.round_to_float) at = at.cast<float>().cast<double>();
+    if (options_.round_to_float) at = to_float32(at);
     points_.push_back(at);
     point_t_.push_back(t);
+    point_on_second_edge_.push_back(s == 1);
     point_index_.emplace(key, id);
     t_canonical = t;
     return na_ + nb_ + id;
@@ -351,7 +353,7 @@ private:
       if (remap[id] == kInvalidIndex) {
         remap[id] = out.vertex_count();
         Vec3 p = position(id);
-        if (options_.round_to_float) p = p.cast<float>().cast<double>();
+        if (options_.round_to_float) p = to_float32(p);
         out.positions.push_back(p);
       }
       return remap[id];
@@ -391,10 +393,13 @@ private:
       std::fprintf(stderr, "  local faces %zu + %zu, pairs %zu, fresh %zu\n", pieces_[0].size(), pieces_[1].size(),
                    seam_.size(), fresh.size());
     if (options_.round_to_float) {
-      std::vector<std::uint8_t> seam_vertex(out.vertex_count(), 0);
-      for (std::size_t id = na_ + nb_; id < total; ++id)
-        if (remap[id] != kInvalidIndex) seam_vertex[remap[id]] = 1;
-      result.collapsed_edges = collapse_short_edges(result, seam_vertex, short_edge_, fresh, unchanged);
+      std::vector<VertexOrigin> origin(out.vertex_count(), VertexOrigin::first);
+      for (std::size_t id = na_; id < total; ++id)
+        if (remap[id] != kInvalidIndex)
+          origin[remap[id]] = id < na_ + nb_                          ? VertexOrigin::second
+                              : point_on_second_edge_[id - na_ - nb_] ? VertexOrigin::curve_on_second_edge
+                                                                      : VertexOrigin::curve_on_first_edge;
+      result.collapsed_edges = collapse_short_edges(result, origin, short_edge_, fresh, unchanged);
       if (debug_) std::fprintf(stderr, "  collapsed %zu edges under %.3g\n", result.collapsed_edges, short_edge_);
     }
     check_fresh(out, fresh, unchanged);
@@ -402,133 +407,6 @@ private:
     result.curve_segments = seam_.size();
     result.split_faces = split_[0].size() + split_[1].size();
     return result;
-  }
-
-  // A curve point within a few hundred float ulp of a neighbour makes sliver faces whose planes turn
-  // by whole degrees when their corners are rounded to float32, enough for two nearly tangent faces
-  // to cross. Such edges are collapsed onto their other end (the original vertex when one is), which
-  // moves the curve by less than their length; the link condition keeps the mesh 2-manifold, no
-  // face may turn over and no moved face may cross a face around the edge. When the curve point may
-  // not move onto its neighbour, the neighbour may move onto it if it is a curve point too.
-  static std::size_t collapse_short_edges(BooleanResult& r, const std::vector<std::uint8_t>& seam_vertex,
-                                          double min_length, std::vector<Index>& fresh, std::vector<Index>& unchanged) {
-    TriangleMesh& m = r.mesh;
-    std::vector<std::pair<double, std::pair<Index, Index>>> edges;
-    for (Index f : fresh)
-      for (int k = 0; k < 3; ++k) {
-        const Index u = m.triangles[f][k], v = m.triangles[f][(k + 1) % 3];
-        if (u > v || (!seam_vertex[u] && !seam_vertex[v])) continue;
-        const double d2 = (m.positions[u] - m.positions[v]).squaredNorm();
-        if (d2 < min_length * min_length) edges.push_back({d2, {u, v}});
-      }
-    if (edges.empty()) return 0;
-    std::sort(edges.begin(), edges.end());
-    std::unordered_map<Index, std::vector<Index>> faces_of;
-    for (const auto& e : edges) {
-      faces_of[e.second.first];
-      faces_of[e.second.second];
-    }
-    for (Index f = 0; f < m.face_count(); ++f)
-      for (Index v : m.triangles[f]) {
-        const auto it = faces_of.find(v);
-        if (it != faces_of.end()) it->second.push_back(f);
-      }
-    std::vector<std::uint8_t> removed(m.face_count(), 0), gone(m.vertex_count(), 0);
-    std::size_t collapses = 0;
-    auto normal = [&](const Triangle& t) -> Vec3 {
-      return (m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]);
-    };
-    // Moves `drop` onto `keep` when that is allowed; returns whether it did.
-    auto collapse = [&](Index keep, Index drop) {
-      std::vector<Index> shared, others, around_drop, around_keep;
-      for (Index f : faces_of[drop]) {
-        if (removed[f]) continue;
-        const Triangle& t = m.triangles[f];
-        if (t[0] == keep || t[1] == keep || t[2] == keep) shared.push_back(f);
-        else others.push_back(f);
-        for (Index w : t)
-          if (w != drop) around_drop.push_back(w);
-      }
-      if (shared.size() != 2) return false;
-      for (Index f : faces_of[keep])
-        if (!removed[f])
-          for (Index w : m.triangles[f])
-            if (w != keep) around_keep.push_back(w);
-      std::sort(around_drop.begin(), around_drop.end());
-      around_drop.erase(std::unique(around_drop.begin(), around_drop.end()), around_drop.end());
-      std::sort(around_keep.begin(), around_keep.end());
-      around_keep.erase(std::unique(around_keep.begin(), around_keep.end()), around_keep.end());
-      std::vector<Index> common;
-      std::set_intersection(around_drop.begin(), around_drop.end(), around_keep.begin(), around_keep.end(),
-                            std::back_inserter(common));
-      if (common.size() != 2) return false; // link condition: only the two opposite corners are shared
-      // No moved face may turn over or cross a face around the edge (a fold the normals do not show).
-      std::vector<Index> near = faces_of[keep];
-      near.insert(near.end(), others.begin(), others.end());
-      auto moved = [&](Index f) {
-        Triangle t = m.triangles[f];
-        std::replace(t.begin(), t.end(), drop, keep);
-        return t;
-      };
-      for (Index f : others) {
-        const Triangle t = moved(f);
-        const Vec3 after = normal(t);
-        if (!(after.dot(normal(m.triangles[f])) > 0.0) || after.squaredNorm() == 0.0) return false;
-        const std::array<Vec3, 3> pt = {m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]};
-        for (Index g : near) {
-          if (g == f || removed[g] || std::find(shared.begin(), shared.end(), g) != shared.end()) continue;
-          const Triangle u = moved(g);
-          if (mesh_triangles_intersect(t, pt, u, {m.positions[u[0]], m.positions[u[1]], m.positions[u[2]]}))
-            return false;
-        }
-      }
-      for (Index f : shared) removed[f] = 1;
-      for (Index f : others) {
-        m.triangles[f] = moved(f);
-        faces_of[keep].push_back(f);
-      }
-      gone[drop] = 1;
-      ++collapses;
-      return true;
-    };
-    for (const auto& e : edges) {
-      Index keep = e.second.first, drop = e.second.second;
-      if (gone[keep] || gone[drop]) continue;
-      if (seam_vertex[keep] && !seam_vertex[drop]) std::swap(keep, drop);
-      // Onto the original vertex when one is; between two curve points, either way.
-      if (!collapse(keep, drop) && seam_vertex[keep]) collapse(drop, keep);
-    }
-    if (collapses == 0) return 0;
-    // Compact faces and vertices.
-    std::vector<Index> new_face(m.face_count(), kInvalidIndex), new_vertex(m.vertex_count(), kInvalidIndex);
-    TriangleMesh compact;
-    std::vector<std::uint8_t> from_b;
-    std::vector<Index> source;
-    for (Index f = 0; f < m.face_count(); ++f) {
-      if (removed[f]) continue;
-      Triangle t = m.triangles[f];
-      for (Index& w : t) {
-        if (new_vertex[w] == kInvalidIndex) {
-          new_vertex[w] = compact.vertex_count();
-          compact.positions.push_back(m.positions[w]);
-        }
-        w = new_vertex[w];
-      }
-      new_face[f] = compact.face_count();
-      compact.triangles.push_back(t);
-      from_b.push_back(r.from_b[f]);
-      source.push_back(r.source_face[f]);
-    }
-    m = std::move(compact);
-    r.from_b = std::move(from_b);
-    r.source_face = std::move(source);
-    for (std::vector<Index>* list : {&fresh, &unchanged}) {
-      std::vector<Index> kept;
-      for (Index f : *list)
-        if (new_face[f] != kInvalidIndex) kept.push_back(new_face[f]);
-      *list = std::move(kept);
-    }
-    return collapses;
   }
 
   // After rounding, the faces near the curves must still be proper triangles that do not cross each
@@ -578,6 +456,7 @@ private:
   const bool debug_ = std::getenv("ST_DEBUG_BOOLEAN") != nullptr; // phase times and failures to stderr
   std::vector<Vec3> points_;
   std::vector<double> point_t_;
+  std::vector<std::uint8_t> point_on_second_edge_; // per point: made by an edge of the second operand
   std::unordered_map<PointKey, Index, PointKeyHash> point_index_;
   std::unordered_map<Index, FaceWork> work_[2];
   std::unordered_map<Index, std::vector<Triangle>> split_[2];

@@ -1,6 +1,7 @@
 #pragma once
 // The Boolean operation's working parts (private to st/boolean/boolean.h): one corefinement of two
-// closed meshes (corefinement.cpp) and the regions of the operands it looks at (operand_regions.cpp).
+// closed meshes (corefinement.cpp; its short curve edges collapsed in collapse.cpp) and the regions
+// of the operands it looks at (operand_regions.cpp).
 
 #include "st/boolean/boolean.h"
 #include "st/boolean/face_split.h"
@@ -100,6 +101,16 @@ std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<Orient
 /// Parity of ray crossings from p against a closed mesh; tries other directions when a ray grazes an
 /// edge (throws Degenerate when every one does). Used only for pieces no intersection curve reaches.
 bool inside_by_rays(const Vec3& p, const TriangleMesh& mesh);
+
+/// Where a vertex of an assembled result comes from: an operand's vertex, or a point of the
+/// intersection curve where an edge of the first (second) operand crosses a face of the other.
+enum class VertexOrigin : std::uint8_t { first, second, curve_on_first_edge, curve_on_second_edge };
+
+/// Collapses the edges of `fresh` faces shorter than `min_length` that end at a curve point
+/// (collapse.cpp); faces it moves join `fresh` (and leave `unchanged`) so that the final check sees
+/// them. Returns the number of edges collapsed.
+std::size_t collapse_short_edges(BooleanResult& r, const std::vector<VertexOrigin>& origin, double min_length,
+                                 std::vector<Index>& fresh, std::vector<Index>& unchanged);
 
 /// One corefinement of `a` and `b` (points closer than `short_edge` on the curve merged). Throws
 /// Degenerate when a contact is not in general position.

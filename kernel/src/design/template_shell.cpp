@@ -3,6 +3,7 @@
 #include "design/template_shell.h"
 #include "detail/timing.h"
 
+#include "st/core/float32.h"
 #include "st/core/aabb_tree.h"
 #include "st/core/topology.h"
 #include "st/design/decimate.h"
@@ -220,7 +221,7 @@ ShellBuild build_shell(const CutResult& inner, const TemplateOptions& options, b
       shell.triangles.push_back(s);
     }
     // STL stores float32: round now, so that the shell checked is the one a file will hold.
-    for (Vec3& p : shell.positions) p = p.cast<float>().cast<double>();
+    round_to_float32(shell);
     return shell;
   };
   ShellBuild built;

@@ -1,6 +1,7 @@
 #include "guide/seat.h"
 
 #include "st/boolean/triangle_intersection.h"
+#include "st/core/float32.h"
 
 #include <algorithm>
 #include <limits>
@@ -24,7 +25,7 @@ std::vector<Vec3> clipped(const std::vector<Vec3>& polygon, const Vec3& n, doubl
 } // namespace
 
 TriangleMesh rounded(TriangleMesh mesh) {
-  for (Vec3& p : mesh.positions) p = p.cast<float>().cast<double>();
+  round_to_float32(mesh);
   return mesh;
 }
 

@@ -1,0 +1,207 @@
+// Short edges at the intersection curve, collapsed after the result's coordinates are rounded.
+//
+// A curve point within a few hundred float ulp of a neighbour makes sliver faces whose planes turn by
+// whole degrees when their corners are rounded to float32, enough for two nearly tangent faces to
+// cross. Such an edge is collapsed: one end moves onto the other, by less than the edge's length. Which
+// end moves decides what keeps its shape; the second operand is the part added or cut as planned (a
+// sleeve, a slot's housing or cut), the first the template, whose surface may move by that much:
+// - a vertex of the first operand moves onto the curve point (the curve stays on the second
+//   operand's surface); when that is not allowed, the curve point moves onto the vertex;
+// - a curve point moves onto a vertex of the second operand, which lies on that surface already;
+// - between two curve points, the one on a face of the second operand moves onto the one on an edge
+//   of it (which lies on both faces of that edge: a slot's corner stays a corner); otherwise either.
+// The link condition keeps the mesh 2-manifold, no moved face may turn over or cross a face around the
+// edge, and every face that moved is handed to the final exact check (fresh), including faces of the
+// first operand that took no part in the corefinement.
+
+#include "boolean/corefinement.h"
+
+#include "st/boolean/triangle_intersection.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <iterator>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace st::boolean_detail {
+
+namespace {
+
+enum class FaceState : std::uint8_t { other, fresh, unchanged };
+
+class EdgeCollapser {
+public:
+  EdgeCollapser(TriangleMesh& m, const std::vector<VertexOrigin>& origin, const std::vector<Index>& fresh,
+                const std::vector<Index>& unchanged)
+      : m_(m), origin_(origin), removed_(m.face_count(), 0), gone_(m.vertex_count(), 0),
+        state_(m.face_count(), FaceState::other) {
+    for (Index f : fresh) state_[f] = FaceState::fresh;
+    for (Index f : unchanged) state_[f] = FaceState::unchanged;
+  }
+
+  /// The short edges of fresh faces at a curve point, shortest first.
+  std::vector<std::pair<Index, Index>> short_edges(const std::vector<Index>& fresh, double min_length) {
+    std::vector<std::pair<double, std::pair<Index, Index>>> edges;
+    for (Index f : fresh)
+      for (int k = 0; k < 3; ++k) {
+        const Index u = m_.triangles[f][k], v = m_.triangles[f][(k + 1) % 3];
+        if (u > v || (!curve(u) && !curve(v))) continue;
+        const double d2 = (m_.positions[u] - m_.positions[v]).squaredNorm();
+        if (d2 < min_length * min_length) edges.push_back({d2, {u, v}});
+      }
+    std::sort(edges.begin(), edges.end());
+    std::vector<std::pair<Index, Index>> out;
+    out.reserve(edges.size());
+    for (const auto& e : edges) out.push_back(e.second);
+    for (const auto& e : out) {
+      faces_of_[e.first];
+      faces_of_[e.second];
+    }
+    for (Index f = 0; f < m_.face_count(); ++f)
+      for (Index v : m_.triangles[f]) {
+        const auto it = faces_of_.find(v);
+        if (it != faces_of_.end()) it->second.push_back(f);
+      }
+    return out;
+  }
+
+  /// Collapses the edge (u, v) one way or the other when allowed.
+  void collapse_edge(Index u, Index v) {
+    if (gone_[u] || gone_[v]) return;
+    if (curve(u) && curve(v)) {
+      // Onto the point on the second operand's edge first.
+      const bool u_on_edge = origin_[u] == VertexOrigin::curve_on_second_edge;
+      const Index drop = u_on_edge ? v : u, keep = u_on_edge ? u : v;
+      if (!move(drop, keep)) move(keep, drop);
+      return;
+    }
+    const Index point = curve(u) ? u : v, vertex = curve(u) ? v : u;
+    if (origin_[vertex] == VertexOrigin::first) {
+      if (!move(vertex, point)) move(point, vertex);
+    } else {
+      move(point, vertex);
+    }
+  }
+
+  std::size_t collapses() const { return collapses_; }
+
+  /// Drops the removed faces and unused vertices; the face lists follow.
+  void compact(BooleanResult& r, std::vector<Index>& fresh, std::vector<Index>& unchanged) {
+    std::vector<Index> new_vertex(m_.vertex_count(), kInvalidIndex);
+    TriangleMesh out;
+    std::vector<std::uint8_t> from_b;
+    std::vector<Index> source;
+    fresh.clear();
+    unchanged.clear();
+    for (Index f = 0; f < m_.face_count(); ++f) {
+      if (removed_[f]) continue;
+      Triangle t = m_.triangles[f];
+      for (Index& w : t) {
+        if (new_vertex[w] == kInvalidIndex) {
+          new_vertex[w] = out.vertex_count();
+          out.positions.push_back(m_.positions[w]);
+        }
+        w = new_vertex[w];
+      }
+      if (state_[f] == FaceState::fresh) fresh.push_back(out.face_count());
+      if (state_[f] == FaceState::unchanged) unchanged.push_back(out.face_count());
+      out.triangles.push_back(t);
+      from_b.push_back(r.from_b[f]);
+      source.push_back(r.source_face[f]);
+    }
+    m_ = std::move(out);
+    r.from_b = std::move(from_b);
+    r.source_face = std::move(source);
+  }
+
+private:
+  bool curve(Index v) const {
+    return origin_[v] == VertexOrigin::curve_on_first_edge || origin_[v] == VertexOrigin::curve_on_second_edge;
+  }
+
+  Vec3 normal(const Triangle& t) const {
+    return (m_.positions[t[1]] - m_.positions[t[0]]).cross(m_.positions[t[2]] - m_.positions[t[0]]);
+  }
+
+  static std::vector<Index> sorted_unique(std::vector<Index> v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    return v;
+  }
+
+  /// Moves `drop` onto `keep` when that is allowed; returns whether it did.
+  bool move(Index drop, Index keep) {
+    std::vector<Index> shared, others, around_drop, around_keep;
+    for (Index f : faces_of_[drop]) {
+      if (removed_[f]) continue;
+      const Triangle& t = m_.triangles[f];
+      (std::find(t.begin(), t.end(), keep) != t.end() ? shared : others).push_back(f);
+      for (Index w : t)
+        if (w != drop) around_drop.push_back(w);
+    }
+    if (shared.size() != 2) return false;
+    for (Index f : faces_of_[keep])
+      if (!removed_[f])
+        for (Index w : m_.triangles[f])
+          if (w != keep) around_keep.push_back(w);
+    around_drop = sorted_unique(std::move(around_drop));
+    around_keep = sorted_unique(std::move(around_keep));
+    std::vector<Index> common;
+    std::set_intersection(around_drop.begin(), around_drop.end(), around_keep.begin(), around_keep.end(),
+                          std::back_inserter(common));
+    if (common.size() != 2) return false; // link condition: only the two opposite corners are shared
+    // No moved face may turn over or cross a face around the edge (a fold the normals do not show).
+    std::vector<Index> near = faces_of_[keep];
+    near.insert(near.end(), others.begin(), others.end());
+    auto moved = [&](Index f) {
+      Triangle t = m_.triangles[f];
+      std::replace(t.begin(), t.end(), drop, keep);
+      return t;
+    };
+    for (Index f : others) {
+      const Triangle t = moved(f);
+      const Vec3 after = normal(t);
+      if (!(after.dot(normal(m_.triangles[f])) > 0.0) || after.squaredNorm() == 0.0) return false;
+      const std::array<Vec3, 3> pt = {m_.positions[t[0]], m_.positions[t[1]], m_.positions[t[2]]};
+      for (Index g : near) {
+        if (g == f || removed_[g] || std::find(shared.begin(), shared.end(), g) != shared.end()) continue;
+        const Triangle u = moved(g);
+        if (mesh_triangles_intersect(t, pt, u, {m_.positions[u[0]], m_.positions[u[1]], m_.positions[u[2]]}))
+          return false;
+      }
+    }
+    for (Index f : shared) removed_[f] = 1;
+    for (Index f : others) {
+      m_.triangles[f] = moved(f);
+      state_[f] = FaceState::fresh; // moved: the final check looks at it
+      faces_of_[keep].push_back(f);
+    }
+    gone_[drop] = 1;
+    ++collapses_;
+    return true;
+  }
+
+  TriangleMesh& m_;
+  const std::vector<VertexOrigin>& origin_;
+  std::vector<std::uint8_t> removed_, gone_;
+  std::vector<FaceState> state_;
+  std::unordered_map<Index, std::vector<Index>> faces_of_;
+  std::size_t collapses_ = 0;
+};
+
+} // namespace
+
+std::size_t collapse_short_edges(BooleanResult& r, const std::vector<VertexOrigin>& origin, double min_length,
+                                 std::vector<Index>& fresh, std::vector<Index>& unchanged) {
+  EdgeCollapser collapser(r.mesh, origin, fresh, unchanged);
+  const std::vector<std::pair<Index, Index>> edges = collapser.short_edges(fresh, min_length);
+  for (const auto& [u, v] : edges) collapser.collapse_edge(u, v);
+  if (collapser.collapses() == 0) return 0;
+  collapser.compact(r, fresh, unchanged);
+  return collapser.collapses();
+}
+
+} // namespace st::boolean_detail
