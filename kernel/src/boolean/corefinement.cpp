@@ -258,8 +258,12 @@ private:
       if (touches_outside[i]) v.exterior = true;
       if (s == 1 || seat.empty() || !seat[pieces[i].source]) v.all_seat = false;
     }
-    // Side test at the intersection curve: the piece next to a segment lies on one side of the
-    // other operand's face through that segment; its centroid tells which, exactly.
+    // Side test at the intersection curve: the piece next to a segment lies in its face on one side
+    // of the segment, so on one side of the other operand's face through it; its corner off the
+    // segment tells which, exactly. Not when that corner is a curve point too (a piece between two
+    // curve segments where the curve bends over an edge of the other operand): it lies on the
+    // neighbouring face, and its side of this face's plane tells that edge's angle, not the piece's
+    // side; the component's other pieces decide.
     for (const SeamSegment& g : seam_) {
       const auto it = seam_pieces.find(edge_key(g.p, g.q));
       if (it == seam_pieces.end()) throw Degenerate{"an intersection edge missing after splitting"};
@@ -268,14 +272,16 @@ private:
       const double length = normal.norm();
       for (Index piece : it->second) {
         const Triangle& t = pieces[piece].t;
-        const Vec3 centroid = (position(t[0]) + position(t[1]) + position(t[2])) / 3.0;
-        const int side = orient3d(other[0], other[1], other[2], centroid);
-        if (side == 0) continue;
-        const double margin = std::abs(normal.dot(centroid - other[0])) / length;
         Verdict& v = verdicts[component[piece]];
+        if (s == 1 && !seat.empty()) (seat[g.fa] ? v.on_seat_curve : v.on_other_curve) = true;
+        const Index opposite = t[0] != g.p && t[0] != g.q ? t[0] : t[1] != g.p && t[1] != g.q ? t[1] : t[2];
+        if (opposite >= na_ + nb_) continue;
+        const Vec3& corner = position(opposite);
+        const int side = orient3d(other[0], other[1], other[2], corner);
+        if (side == 0) continue;
+        const double margin = std::abs(normal.dot(corner - other[0])) / length;
         double& confidence = side > 0 ? v.inside_confidence : v.outside_confidence;
         confidence = std::max(confidence, margin);
-        if (s == 1 && !seat.empty()) (seat[g.fa] ? v.on_seat_curve : v.on_other_curve) = true;
       }
     }
     for (std::size_t c = 0; c < verdicts.size(); ++c) {
