@@ -42,6 +42,7 @@ public:
       t = now;
     };
     find_segments();
+    merge_coincident_points();
     for (const SeamSegment& g : seam_) seam_edges_.insert(edge_key(g.p, g.q)); // both sides use it
     lap("segments");
     split_faces();
@@ -182,6 +183,67 @@ private:
     wa.segments.emplace_back(events[0].point, events[1].point);
     wb.segments.emplace_back(events[0].point, events[1].point);
     seam_.push_back({events[0].point, events[1].point, fa, fb});
+  }
+
+  // Curve points are rounded to float32 as they are made. Where an edge of one operand passes within
+  // half an ulp of an edge of the other, the point where the first crosses a face and the point where
+  // the second crosses a face of the first round to the same coordinates: they are one point of the
+  // curve, which passes there through both edges. Such points are merged (the point on a face's
+  // edge keeps its place on the edge) and the zero-length segment between them dropped, so the faces
+  // are split as if the curve passed through that point once.
+  void merge_coincident_points() {
+    if (!options_.round_to_float || points_.empty()) return;
+    struct Hash {
+      std::size_t operator()(const Vec3& p) const {
+        std::size_t h = 0;
+        for (int k = 0; k < 3; ++k) h = h * 0x9E3779B97F4A7C15ull ^ std::hash<double>()(p[k]);
+        return h;
+      }
+    };
+    std::unordered_map<Vec3, Index, Hash> first;
+    std::vector<Index> canonical(points_.size());
+    bool merged = false;
+    for (Index i = 0; i < points_.size(); ++i) {
+      const auto [it, inserted] = first.emplace(points_[i], i);
+      canonical[i] = it->second;
+      merged |= !inserted;
+    }
+    if (!merged) return;
+    const Index offset = na_ + nb_;
+    auto map = [&](Index id) { return id >= offset ? offset + canonical[id - offset] : id; };
+    for (int s = 0; s < 2; ++s)
+      for (auto& [f, w] : work_[s]) {
+        std::vector<FacePoint> points;
+        for (FacePoint p : w.points) {
+          p.id = map(p.id);
+          const auto it = std::find_if(points.begin(), points.end(), [&](const FacePoint& q) { return q.id == p.id; });
+          if (it == points.end()) {
+            points.push_back(p);
+          } else if (p.edge >= 0) {
+            if (it->edge >= 0 && it->edge != p.edge) throw Degenerate{"curve points merged at a face's corner"};
+            *it = p;
+          }
+        }
+        w.points = std::move(points);
+        std::vector<std::pair<Index, Index>> segments;
+        for (auto [u, v] : w.segments) {
+          u = map(u);
+          v = map(v);
+          if (u == v) continue;
+          const bool known = std::any_of(segments.begin(), segments.end(), [&](const auto& e) {
+            return (e.first == u && e.second == v) || (e.first == v && e.second == u);
+          });
+          if (!known) segments.emplace_back(u, v);
+        }
+        w.segments = std::move(segments);
+      }
+    std::vector<SeamSegment> seam;
+    for (SeamSegment g : seam_) {
+      g.p = map(g.p);
+      g.q = map(g.q);
+      if (g.p != g.q) seam.push_back(g);
+    }
+    seam_ = std::move(seam);
   }
 
   void split_faces() {
