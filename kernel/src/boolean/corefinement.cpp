@@ -186,11 +186,13 @@ private:
   }
 
   // Curve points are rounded to float32 as they are made. Where an edge of one operand passes within
-  // half an ulp of an edge of the other, the point where the first crosses a face and the point where
-  // the second crosses a face of the first round to the same coordinates: they are one point of the
-  // curve, which passes there through both edges. Such points are merged (the point on a face's
-  // edge keeps its place on the edge) and the zero-length segment between them dropped, so the faces
-  // are split as if the curve passed through that point once.
+  // an ulp or two of an edge of the other, the point where the first crosses a face and the point
+  // where the second crosses a face of the first round to the same coordinates, or to neighbouring
+  // ones on either side of the face's edge: they are one point of the curve, which passes there
+  // through both edges. Such points (equal after rounding, or the ends of a curve segment a few ulp
+  // long, one made by an edge of each operand) are merged, the point on a face's edge keeping its
+  // place on that edge, and the segment dropped, so the faces are split as if the curve passed
+  // through that point once.
   void merge_coincident_points() {
     if (!options_.round_to_float || points_.empty()) return;
     struct Hash {
@@ -200,22 +202,31 @@ private:
         return h;
       }
     };
-    std::unordered_map<Vec3, Index, Hash> first;
-    std::vector<Index> canonical(points_.size());
+    const Index offset = na_ + nb_;
+    UnionFind clusters(static_cast<Index>(points_.size()));
     bool merged = false;
+    std::unordered_map<Vec3, Index, Hash> first;
     for (Index i = 0; i < points_.size(); ++i) {
       const auto [it, inserted] = first.emplace(points_[i], i);
-      canonical[i] = it->second;
-      merged |= !inserted;
+      if (!inserted) merged |= clusters.join(it->second, i);
+    }
+    const double close = short_edge_ / 32.0; // 8 float ulp of the coordinates (short_edge_ is 256)
+    for (const SeamSegment& g : seam_) {
+      const Index p = g.p - offset, q = g.q - offset;
+      if (point_on_second_edge_[p] != point_on_second_edge_[q] &&
+          (points_[p] - points_[q]).squaredNorm() <= close * close)
+        merged |= clusters.join(p, q);
     }
     if (!merged) return;
-    const Index offset = na_ + nb_;
+    std::vector<Index> canonical(points_.size());
+    for (Index i = 0; i < points_.size(); ++i) canonical[i] = clusters.find(i);
     auto map = [&](Index id) { return id >= offset ? offset + canonical[id - offset] : id; };
     for (int s = 0; s < 2; ++s)
       for (auto& [f, w] : work_[s]) {
         std::vector<FacePoint> points;
         for (FacePoint p : w.points) {
           p.id = map(p.id);
+          p.position = position(p.id);
           const auto it = std::find_if(points.begin(), points.end(), [&](const FacePoint& q) { return q.id == p.id; });
           if (it == points.end()) {
             points.push_back(p);
