@@ -56,16 +56,20 @@ public:
     std::vector<std::pair<Index, Index>> out;
     out.reserve(edges.size());
     for (const auto& e : edges) out.push_back(e.second);
-    for (const auto& e : out) {
-      faces_of_[e.first];
-      faces_of_[e.second];
+    return out;
+  }
+
+  /// Lists the faces around each end of the edges, the only vertices that may move.
+  void index_faces(const std::vector<std::pair<Index, Index>>& edges) {
+    for (const auto& [u, v] : edges) {
+      faces_of_[u];
+      faces_of_[v];
     }
     for (Index f = 0; f < m_.face_count(); ++f)
       for (Index v : m_.triangles[f]) {
         const auto it = faces_of_.find(v);
         if (it != faces_of_.end()) it->second.push_back(f);
       }
-    return out;
   }
 
   /// Collapses the edge (u, v) one way or the other when allowed.
@@ -90,29 +94,21 @@ public:
 
   /// Drops the removed faces and unused vertices; the face lists follow.
   void compact(BooleanResult& r, std::vector<Index>& fresh, std::vector<Index>& unchanged) {
-    std::vector<Index> new_vertex(m_.vertex_count(), kInvalidIndex);
-    TriangleMesh out;
+    std::vector<Index> kept;
+    for (Index f = 0; f < m_.face_count(); ++f)
+      if (!removed_[f]) kept.push_back(f);
     std::vector<std::uint8_t> from_b;
     std::vector<Index> source;
     fresh.clear();
     unchanged.clear();
-    for (Index f = 0; f < m_.face_count(); ++f) {
-      if (removed_[f]) continue;
-      Triangle t = m_.triangles[f];
-      for (Index& w : t) {
-        if (new_vertex[w] == kInvalidIndex) {
-          new_vertex[w] = out.vertex_count();
-          out.positions.push_back(m_.positions[w]);
-        }
-        w = new_vertex[w];
-      }
-      if (state_[f] == FaceState::fresh) fresh.push_back(out.face_count());
-      if (state_[f] == FaceState::unchanged) unchanged.push_back(out.face_count());
-      out.triangles.push_back(t);
+    for (Index i = 0; i < kept.size(); ++i) {
+      const Index f = kept[i];
+      if (state_[f] == FaceState::fresh) fresh.push_back(i);
+      if (state_[f] == FaceState::unchanged) unchanged.push_back(i);
       from_b.push_back(r.from_b[f]);
       source.push_back(r.source_face[f]);
     }
-    m_ = std::move(out);
+    m_ = submesh(m_, kept);
     r.from_b = std::move(from_b);
     r.source_face = std::move(source);
   }
@@ -198,6 +194,8 @@ std::size_t collapse_short_edges(BooleanResult& r, const std::vector<VertexOrigi
                                  std::vector<Index>& fresh, std::vector<Index>& unchanged) {
   EdgeCollapser collapser(r.mesh, origin, fresh, unchanged);
   const std::vector<std::pair<Index, Index>> edges = collapser.short_edges(fresh, min_length);
+  if (edges.empty()) return 0;
+  collapser.index_faces(edges);
   for (const auto& [u, v] : edges) collapser.collapse_edge(u, v);
   if (collapser.collapses() == 0) return 0;
   collapser.compact(r, fresh, unchanged);
