@@ -136,16 +136,19 @@ inline std::string write_text(const std::filesystem::path& path, const std::stri
   return path.string();
 }
 
-/// The message of the InvalidInput `f` throws (a failure when it throws none).
-template <class F> std::string invalid_input_of(F&& f) {
+/// The message of the exception of type E that `f` throws (a failure when it throws none).
+template <class E, class F> std::string message_of(F&& f) {
   try {
     f();
-  } catch (const InvalidInput& e) {
+  } catch (const E& e) {
     return e.what();
   }
-  ADD_FAILURE() << "no InvalidInput thrown";
+  ADD_FAILURE() << "no exception of the expected type thrown";
   return "";
 }
+
+/// The message of the InvalidInput `f` throws (a failure when it throws none).
+template <class F> std::string invalid_input_of(F&& f) { return message_of<InvalidInput>(std::forward<F>(f)); }
 
 /// How deep the deepest vertex of the flagged faces of `guide` lies behind the bone's surface (mm,
 /// 0 when none does); `report(point, depth)` hears each vertex deeper than `loud`.

@@ -96,6 +96,30 @@ TEST(Boolean, CoplanarAndTouchingContactsAreResolved) {
   EXPECT_NEAR(signed_volume(d.mesh), 10.0 * 10.0 * 2.0 - 5.0 * 5.0 * 2.0, 1e-2);
 }
 
+TEST(Boolean, ACornerCutOffCloserThanFloatResolvesIsNotRetried) {
+  // A cube 600 mm from the origin (float ulp 6.1e-5 mm) whose top carries a needle face (4, 5, q),
+  // q one ulp off the front edge; the other box's side plane crosses the needle 1 mm from its
+  // corner 5, where it is a fifth of an ulp wide: the two crossings round to one point, which cuts
+  // corner 5 off the needle. Handled as it is, at the first attempt, with no operand moved.
+  TriangleMesh cube = make_box(Vec3(600, 600, 600), Vec3(610, 610, 610));
+  const Index q = cube.vertex_count();
+  cube.positions.emplace_back(605.0, 600.0 + std::ldexp(1.0, -14), 610.0);
+  cube.triangles.erase(cube.triangles.begin() + 2, cube.triangles.begin() + 4); // the top quad 4 5 7 6
+  for (const auto& [u, v] : {std::pair<Index, Index>{4, 5}, {5, 7}, {7, 6}, {6, 4}})
+    cube.triangles.push_back({u, v, q});
+  expect_valid(cube);
+  const TriangleMesh box = make_box(Vec3(609, 596, 605), Vec3(620, 604.5, 615));
+  const double overlap = 1.0 * 4.5 * 5.0;
+  const BooleanResult u = mesh_boolean(cube, box, BooleanOp::Union);
+  EXPECT_EQ(u.attempts, 1);
+  expect_valid(u.mesh);
+  EXPECT_NEAR(signed_volume(u.mesh), 1000.0 + 11.0 * 8.5 * 10.0 - overlap, 1e-3);
+  const BooleanResult d = mesh_boolean(cube, box, BooleanOp::Difference);
+  EXPECT_EQ(d.attempts, 1);
+  expect_valid(d.mesh);
+  EXPECT_NEAR(signed_volume(d.mesh), 1000.0 - overlap, 1e-3);
+}
+
 TEST(Boolean, DisjointAndNestedOperands) {
   const TriangleMesh a = test::make_icosphere(5.0, 2);
   const TriangleMesh far = test::make_icosphere(2.0, 2, Vec3(20, 0, 0));

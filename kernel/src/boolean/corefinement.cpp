@@ -230,8 +230,12 @@ private:
           const auto it = std::find_if(points.begin(), points.end(), [&](const FacePoint& q) { return q.id == p.id; });
           if (it == points.end()) {
             points.push_back(p);
+          } else if (p.edge >= 0 && it->edge >= 0 && it->edge != p.edge) {
+            // Crossings of two edges of the face, one point: the curve cuts off their common corner.
+            if (w.cut.corner >= 0) throw Degenerate{"two corners of a face cut off"};
+            const bool leaving = p.edge == (it->edge + 1) % 3; // p on the edge leaving the corner
+            w.cut = {leaving ? p.edge : it->edge, p.id, leaving ? p.t : it->t, leaving ? it->t : p.t};
           } else if (p.edge >= 0) {
-            if (it->edge >= 0 && it->edge != p.edge) throw Degenerate{"curve points merged at a face's corner"};
             *it = p;
           }
         }
@@ -266,6 +270,7 @@ private:
         in.corner_ids = {base(s) + t[0], base(s) + t[1], base(s) + t[2]};
         in.points = w.points;
         in.segments = w.segments;
+        in.cut = w.cut;
         try {
           split_[s][f] = split_face(in);
         } catch (const GeometryError& e) {

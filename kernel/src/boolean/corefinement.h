@@ -47,6 +47,7 @@ struct PointKeyHash {
 struct FaceWork {
   std::vector<FacePoint> points;
   std::vector<std::pair<Index, Index>> segments;
+  CutCorner cut; // a corner the curve cuts off closer than the coordinates resolve
 };
 
 struct SeamSegment {

@@ -321,7 +321,46 @@ private:
 
 } // namespace
 
+namespace {
+
+// The face with its cut corner replaced by the point that cuts it: corners (point, next, previous),
+// the points on the two cut edges moved to the parts of those edges left (their parameters rescaled).
+FaceSplitInput without_cut_corner(const FaceSplitInput& input) {
+  const CutCorner& cut = input.cut;
+  const int c = cut.corner, next = (c + 1) % 3, previous = (c + 2) % 3;
+  if (!(cut.t_leaving > 0.0 && cut.t_leaving < 1.0 && cut.t_arriving > 0.0 && cut.t_arriving < 1.0))
+    throw GeometryError("face split: a cut corner's point off its edges");
+  FaceSplitInput out;
+  out.corner_ids = {cut.id, input.corner_ids[next], input.corner_ids[previous]};
+  out.corners[1] = input.corners[next];
+  out.corners[2] = input.corners[previous];
+  out.segments = input.segments;
+  for (FacePoint p : input.points) {
+    if (p.id == cut.id) {
+      out.corners[0] = p.position;
+      continue;
+    }
+    if (p.edge == c) {
+      if (!(p.t > cut.t_leaving)) throw GeometryError("face split: a point in the cut corner");
+      p.t = (p.t - cut.t_leaving) / (1.0 - cut.t_leaving);
+      p.edge = 0;
+    } else if (p.edge == next) {
+      p.edge = 1;
+    } else if (p.edge == previous) {
+      if (!(p.t < cut.t_arriving)) throw GeometryError("face split: a point in the cut corner");
+      p.t /= cut.t_arriving;
+      p.edge = 2;
+    }
+    out.points.push_back(p);
+  }
+  if (out.points.size() == input.points.size()) throw GeometryError("face split: a cut corner's point missing");
+  return out;
+}
+
+} // namespace
+
 std::vector<Triangle> split_face(const FaceSplitInput& input) {
+  if (input.cut.corner >= 0) return split_face(without_cut_corner(input));
   const Vec3& c0 = input.corners[0];
   const Vec3 e1 = input.corners[1] - c0, e2 = input.corners[2] - c0;
   const Vec3 normal = e1.cross(e2);

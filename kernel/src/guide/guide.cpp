@@ -219,18 +219,20 @@ void check_clear_of_bone(const TriangleMesh& column, const TubeSpec& tube, const
   if (const auto meets = meets_bone(column, bone)) throw conflict(tube, *meets, "sleeve runs into the bone");
 }
 
-// The drill's way down the axis, from the sleeve's top to the entry, meets the bone's surface once:
-// where it enters the bone (at the entry, or a little above an entry planned inside the bone). Two
-// crossings or more (exact tests; crossings closer than 0.05 mm along the axis count as one, for
-// duplicated sheets of a dirty mesh) mean bone in the bore above the template, a cusp or a lamina
-// beside the entry: a conflict.
+// The drill's way down the axis, from the sleeve's top to just past the entry, meets the bone's
+// surface once: where it enters the bone (at the entry, or a little above an entry planned inside the
+// bone). Two crossings or more (exact tests; crossings closer than 0.05 mm along the axis count as
+// one, for duplicated sheets of a dirty mesh) mean bone in the bore above the template, a cusp or a
+// lamina beside the entry: a conflict. The way runs 0.05 mm past the entry, so that an entry on the
+// bone's surface (where the segment would only touch it) is one crossing for certain.
 void check_bore_line(const TubeSpec& tube, double top, const AabbTree& bone) {
   if (!(top > 0.0)) return;
+  constexpr double kPast = 0.05;
   const Vec3 axis = tube_axis(tube);
-  const Vec3 from = tube_point(tube, top), to = tube.entry;
+  const Vec3 from = tube_point(tube, top), to = tube_point(tube, -kPast);
   const TriangleMesh& mesh = bone.mesh();
   std::vector<std::pair<double, Vec3>> crossings; // distance from the top, where
-  bone.any_along(from, -axis, top, 1e-6, [&](Index g) {
+  bone.any_along(from, -axis, top + kPast, 1e-6, [&](Index g) {
     const Triangle& t = mesh.triangles[g];
     const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
     if (!segment_intersects_triangle(from, to, a, b, c)) return false;
@@ -456,6 +458,7 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
     const Cylinder cylinder = tube_cylinder(tubes[i], tubes[i].outer_radius, p.column_bottom, p.sleeve_top);
     TriangleMesh column = footed_cylinder_mesh(cylinder, options.chordal_tolerance, [](const Vec3&) { return 0.0; });
     const Index ring = static_cast<Index>(circle_segments(tubes[i].outer_radius, options.chordal_tolerance));
+    check_bore_line(tubes[i], p.sleeve_top, bone_tree); // first: bone in the bore is the reason to name
     if (seat_foot(column, column.vertex_count() - ring - 1, tubes[i], p.column_bottom, p.sleeve_top,
                   options.clearance + p.foot_lift, bone_tree))
       column = rounded(std::move(column));
@@ -466,7 +469,6 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
                   options.chordal_tolerance, bone_tree, result.perturbed_operations);
     }
     check_clear_of_bone(column, tubes[i], bone_tree);
-    check_bore_line(tubes[i], p.sleeve_top, bone_tree);
     unite(columns, column);
   }
   std::vector<TriangleMesh> housings;
