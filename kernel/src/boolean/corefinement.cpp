@@ -192,7 +192,7 @@ private:
   // through both edges. Such points (equal after rounding, or the ends of a curve segment a few ulp
   // long, one made by an edge of each operand) are merged, the point on a face's edge keeping its
   // place on that edge, and the segment dropped, so the faces are split as if the curve passed
-  // through that point once.
+  // through that point once. A point that rounds onto a vertex of a face it lies in is that vertex.
   void merge_coincident_points() {
     if (!options_.round_to_float || points_.empty()) return;
     struct Hash {
@@ -217,15 +217,36 @@ private:
           (points_[p] - points_[q]).squaredNorm() <= close * close)
         merged |= clusters.join(p, q);
     }
+    // A point that rounds onto a corner of a face it lies in is that corner, a vertex of the operand:
+    // the curve passes through the vertex.
+    std::vector<Index> vertex(points_.size(), kInvalidIndex);
+    for (int s = 0; s < 2; ++s)
+      for (const auto& [f, w] : work_[s])
+        for (const FacePoint& p : w.points)
+          for (Index corner : mesh(s).triangles[f])
+            if (Index& v = vertex[clusters.find(p.id - offset)];
+                mesh(s).positions[corner] == points_[clusters.find(p.id - offset)] && v != base(s) + corner) {
+              if (v != kInvalidIndex) throw Degenerate{"a curve point on two vertices"};
+              v = base(s) + corner;
+              merged = true;
+            }
     if (!merged) return;
-    std::vector<Index> canonical(points_.size());
-    for (Index i = 0; i < points_.size(); ++i) canonical[i] = clusters.find(i);
-    auto map = [&](Index id) { return id >= offset ? offset + canonical[id - offset] : id; };
+    auto map = [&](Index id) {
+      if (id < offset) return id;
+      const Index c = clusters.find(id - offset);
+      return vertex[c] != kInvalidIndex ? vertex[c] : offset + c;
+    };
     for (int s = 0; s < 2; ++s)
       for (auto& [f, w] : work_[s]) {
         std::vector<FacePoint> points;
+        const Triangle& t = mesh(s).triangles[f];
         for (FacePoint p : w.points) {
           p.id = map(p.id);
+          if (p.id < offset && p.id >= base(s) && p.id < base(s) + mesh(s).vertex_count()) {
+            if (p.id != base(s) + t[0] && p.id != base(s) + t[1] && p.id != base(s) + t[2])
+              throw Degenerate{"a curve point on a vertex off its face"};
+            continue; // a corner of this face
+          }
           p.position = position(p.id);
           const auto it = std::find_if(points.begin(), points.end(), [&](const FacePoint& q) { return q.id == p.id; });
           if (it == points.end()) {
