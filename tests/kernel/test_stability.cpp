@@ -6,6 +6,7 @@
 
 #include "st/core/aabb_tree.h"
 #include "st/core/errors.h"
+#include "st/core/topology.h"
 #include "st/design/template_design.h"
 #include "st/io/case_file.h"
 #include "st/io/mesh_io.h"
@@ -128,6 +129,31 @@ TEST(Stability, AHalfCylinderSlidesAlongAndTurnsAboutItsAxis) {
     ++away;
   }
   EXPECT_EQ(away, 1);
+}
+
+TEST(Stability, TheHintForASlideNamesTheBoneThatFacesIt) {
+  // The half cylinder's guide slides along the axis; the bone has a cap over the end x = 0 that the
+  // guide does not cover. Extending the guide there would stop the slide: the hint names the cap,
+  // facing the motion, and the guide's rim at that end; bone the guide covers is not named.
+  const HalfCylinder half;
+  const TriangleMesh cap = test::make_grid_patch(
+      24, 0.0, kPi, 0.0, 10.0, [](double t, double s) { return Vec3(0.0, s * std::cos(t), s * std::sin(t)); });
+  const TriangleMesh bone = joined({half.bone, cap});
+  const StabilityReport r = analyse_stability(contacts_on(half.guide, &half.bone), Vec3(0, 0, -1));
+  const auto keep = keeping(r);
+  ASSERT_FALSE(keep.empty());
+  ASSERT_EQ(keep[0]->kind, FreeMotion::Kind::slide);
+  std::vector<Vec3> rim;
+  const MeshTopology topology(half.guide);
+  for (const auto& loop : border_loops(half.guide, topology.all_opposites()))
+    for (Index v : loop) rim.push_back(half.guide.positions[v]);
+  const AabbTree covered(half.guide);
+  const ExtensionHint hint = where_to_extend(r, *keep[0], rim, bone, covered, 15.0, 0.05);
+  ASSERT_TRUE(hint.found);
+  EXPECT_GT(hint.facing, 0.99);
+  EXPECT_EQ(hint.bone_point.x(), 0.0) << "not on the cap";
+  EXPECT_GT(covered.closest_point(hint.bone_point, 15.0)->distance, 0.05) << "named covered bone";
+  EXPECT_EQ(hint.rim_point.x(), 0.0) << "not the rim at the capped end";
 }
 
 /// Three faces of the box [-20, 0]^3 around its corner at the origin, `s` mm wide, normals outward.
