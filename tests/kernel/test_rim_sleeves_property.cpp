@@ -17,6 +17,7 @@
 #include "st/design/template_design.h"
 #include "st/guide/guide.h"
 #include "st/guide/inspect.h"
+#include "st/guide/sleeve.h"
 #include "st/io/case_file.h"
 #include "st/io/mesh_io.h"
 #include "st/io/plan.h"
@@ -56,9 +57,9 @@ std::vector<Index> faces_near_rim(const TriangleMesh& inner, double reach) {
 
 /// Whether the bone meets the tube's axis between 0.05 mm above its entry and the sleeve's top.
 bool bone_on_bore_line(const TubeSpec& tube, const AabbTree& bone) {
-  const Vec3 axis = -tube.direction.normalized();
+  const Vec3 axis = tube_axis(tube);
   const double top = tube.offset + tube.length;
-  const Vec3 from = tube.entry + top * axis, to = tube.entry + 0.05 * axis;
+  const Vec3 from = tube_point(tube, top), to = tube_point(tube, 0.05);
   const TriangleMesh& mesh = bone.mesh();
   return bone.any_along(from, -axis, top - 0.05, 1e-6, [&](Index g) {
     const Triangle& t = mesh.triangles[g];

@@ -222,14 +222,15 @@ private:
     std::vector<Index> vertex(points_.size(), kInvalidIndex);
     for (int s = 0; s < 2; ++s)
       for (const auto& [f, w] : work_[s])
-        for (const FacePoint& p : w.points)
-          for (Index corner : mesh(s).triangles[f])
-            if (Index& v = vertex[clusters.find(p.id - offset)];
-                mesh(s).positions[corner] == points_[clusters.find(p.id - offset)] && v != base(s) + corner) {
-              if (v != kInvalidIndex) throw Degenerate{"a curve point on two vertices"};
-              v = base(s) + corner;
-              merged = true;
-            }
+        for (const FacePoint& p : w.points) {
+          const Index c = clusters.find(p.id - offset);
+          for (Index corner : mesh(s).triangles[f]) {
+            if (mesh(s).positions[corner] != points_[c] || vertex[c] == base(s) + corner) continue;
+            if (vertex[c] != kInvalidIndex) throw Degenerate{"a curve point on two vertices"};
+            vertex[c] = base(s) + corner;
+            merged = true;
+          }
+        }
     if (!merged) return;
     auto map = [&](Index id) {
       if (id < offset) return id;
@@ -242,7 +243,7 @@ private:
         const Triangle& t = mesh(s).triangles[f];
         for (FacePoint p : w.points) {
           p.id = map(p.id);
-          if (p.id < offset && p.id >= base(s) && p.id < base(s) + mesh(s).vertex_count()) {
+          if (p.id >= base(s) && p.id < base(s) + mesh(s).vertex_count()) { // a vertex of this operand
             if (p.id != base(s) + t[0] && p.id != base(s) + t[1] && p.id != base(s) + t[2])
               throw Degenerate{"a curve point on a vertex off its face"};
             continue; // a corner of this face

@@ -319,10 +319,6 @@ private:
   std::vector<Tri> tris_;
 };
 
-} // namespace
-
-namespace {
-
 // The face with its cut corner replaced by the point that cuts it: corners (point, next, previous),
 // the points on the two cut edges moved to the parts of those edges left (their parameters rescaled).
 FaceSplitInput without_cut_corner(const FaceSplitInput& input) {
