@@ -318,11 +318,20 @@ int design(int argc, char** argv) {
     std::printf("  insertion: along (%.3f, %.3f, %.3f)%s; undercut %.1f of %.1f mm^2 in %.3f s\n", ins.direction.x(),
                 ins.direction.y(), ins.direction.z(), ins.automatic ? ", the least-undercut direction" : "",
                 ins.undercut_area_mm2, ins.region_area_mm2, t.insertion);
-    if (ins.blocked_out)
+    if (ins.blocked_out) {
       std::printf("  block-out: %zu zone(s) filled (%.1f mm^3), %zu at the rim cut off (%.1f mm^2), %zu left as they "
                   "were, in %.3f s\n",
                   ins.blocked_out_zones, ins.blocked_out_volume_mm3, ins.trimmed_zones, ins.trimmed_area_mm2,
                   ins.unfilled.size(), t.block_out);
+      if (ins.skirt_faces > 0)
+        std::printf("  skirt: %.1f mm^2 hung from the silhouette, down to %.1f mm along the insertion direction\n",
+                    ins.skirt_area_mm2, ins.skirt_depth_mm);
+      if (!ins.skirt_dropped.empty())
+        std::fprintf(stderr,
+                     "warning: %s: the guide ends where the bone turns under, without the skirt down to the "
+                     "drawn border (with it: %s)\n",
+                     c.name.c_str(), ins.skirt_dropped.c_str());
+    }
     if (ins.removal_checked) {
       if (ins.removable)
         std::printf("  removal: the guide comes off along (%.3f, %.3f, %.3f) over %.0f mm without meeting the bone; "

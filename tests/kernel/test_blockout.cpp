@@ -180,6 +180,40 @@ TEST(BlockOut, MaxillaGuideOverTheTeethComesOffAlongAuto) {
   EXPECT_FALSE(design_template(bone, copy).insertion.removable);
 }
 
+TEST(BlockOut, AZoneAtTheRimHangsASkirtFromTheSilhouetteDownToTheDrawnBorder) {
+  // The border drawn round the post at z = 2, under the bulge: the band from the widest ring (r = 4,
+  // z = 5) down to the border is hidden and reaches the rim. The guide keeps it covered by a skirt along
+  // the axis from the widest ring down to z = 2 (a cylinder 3 mm high, standing off the post), and still
+  // comes off.
+  const TriangleMesh bone = tooth_on_plate(0.3, 128);
+  TemplateOptions o = tooth_template(true);
+  o.boundary_points.clear();
+  for (int k = 0; k < 12; ++k) {
+    const double a = 2.0 * kPi * (k + 0.5) / 12.0;
+    o.boundary_points.emplace_back(3.0 * std::cos(a), 3.0 * std::sin(a), 2.0);
+  }
+  o.clearance = 0.1;
+  const TemplateResult guide = design_template(bone, o);
+  test::expect_valid_solid(guide.shell);
+  const InsertionReport& ins = guide.insertion;
+  EXPECT_EQ(ins.trimmed_zones, 1u);
+  EXPECT_NEAR(ins.skirt_depth_mm, 3.0, 0.05);
+  const double cylinder = 2.0 * kPi * 4.1 * 3.0; // at the clearance off the widest ring
+  EXPECT_NEAR(ins.skirt_area_mm2, cylinder, 0.02 * cylinder);
+  EXPECT_TRUE(ins.removable) << ins.blocking.size() << " blocking places";
+  // The inner surface reaches the drawn border's depth, and keeps clear of the bone everywhere.
+  double lowest = 1e9, closest = 1e9;
+  const AabbTree tree(bone);
+  for (const Vec3& p : guide.inner.positions) {
+    lowest = std::min(lowest, p.z());
+    closest = std::min(closest, tree.closest_point(p)->distance);
+  }
+  EXPECT_NEAR(lowest, 2.0, 0.05);
+  EXPECT_GT(closest, 0.05);
+  // The skirt's faces are fills: the guide's contact is the reachable bone only.
+  EXPECT_LT(ins.contact_area_mm2, ins.inner_area_mm2 - 0.5 * cylinder);
+}
+
 TEST(Removal, APlateLiftsOffAPlaneAndCatchesOnALedge) {
   // A 10 x 10 x 2 box resting on a plane comes off upwards; with a ledge 1 mm above its top, it
   // meets the ledge; moved off sideways (along -x, the ledge behind it) it comes off again.
@@ -205,6 +239,49 @@ TEST(Removal, APlateLiftsOffAPlaneAndCatchesOnALedge) {
   // ledge, along +x it passes under it (the ledge is 1 mm above the box's top).
   EXPECT_TRUE(check_removal(ledge_tree, box, Vec3(1, 0, 0)).removable);
   EXPECT_TRUE(check_removal(ledge_tree, box, Vec3(-1, 0, 0)).removable);
+}
+
+/// A closed octahedron of radius 5 about the origin.
+TriangleMesh octahedron() {
+  TriangleMesh m;
+  m.positions = {{5, 0, 0}, {0, 5, 0}, {-5, 0, 0}, {0, -5, 0}, {0, 0, 5}, {0, 0, -5}};
+  for (Index k = 0; k < 4; ++k) {
+    m.triangles.push_back({k, (k + 1) % 4, 4});
+    m.triangles.push_back({(k + 1) % 4, k, 5});
+  }
+  return m;
+}
+
+/// A thin closed rod along x from -50 to 50, its cross-section a triangle about (y, z).
+TriangleMesh rod(double y, double z) {
+  TriangleMesh m;
+  for (double x : {-50.0, 50.0}) {
+    m.positions.emplace_back(x, y - 0.2, z - 0.2);
+    m.positions.emplace_back(x, y + 0.2, z - 0.2);
+    m.positions.emplace_back(x, y, z + 0.2);
+  }
+  m.triangles = {{0, 2, 1}, {3, 4, 5}, {0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {2, 0, 3}, {2, 3, 5}};
+  return m;
+}
+
+TEST(Removal, AGuideMeetsABarItsEdgesPassWithNoCornerOnIt) {
+  // An octahedron lifted by 20 mm along +z past a thin bar at y = 2: no corner's path meets the bar
+  // and the bar's corners lie far off to the sides, so only an edge sweeping over it (the equator, where
+  // the faces turn from facing up to facing down) or the octahedron at the end of the way finds it.
+  const TriangleMesh guide = octahedron();
+  test::expect_valid_solid(guide);
+  for (const TriangleMesh& bar : {rod(2.0, 10.0), rod(2.0, 22.0)}) {
+    test::expect_valid_solid(bar);
+    const AabbTree tree(bar);
+    const RemovalReport r = check_removal(tree, guide, Vec3(0, 0, -1));
+    EXPECT_FALSE(r.removable) << "bar at z " << bar.positions[2].z();
+    ASSERT_FALSE(r.blocking.empty());
+  }
+  // Off to the side (y = 6, outside the octahedron's outline) and beyond the way (z = 27): free.
+  for (const TriangleMesh& bar : {rod(6.0, 10.0), rod(2.0, 27.0)}) {
+    const AabbTree tree(bar);
+    EXPECT_TRUE(check_removal(tree, guide, Vec3(0, 0, -1)).removable) << "bar at y " << bar.positions[2].y();
+  }
 }
 
 } // namespace

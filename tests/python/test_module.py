@@ -49,11 +49,17 @@ def test_insertion_analysis_of_a_cap_beyond_the_equator(stk):
     assert abs(ins["undercut_area_mm2"] - band) < 0.05 * band
     assert ins["hidden"].shape == (len(ins["region"][1]),)
     # Blocked out (the default with an insertion), the band under the equator reaches the rim: it is
-    # cut off, so the guide ends at the equator and comes off upwards.
+    # cut off, and a skirt hangs from the equator straight down to the drawn border (z = 20 cos 110),
+    # a cylinder of the band's own area (Archimedes); the guide comes off upwards.
     assert ins["blocked_out"] and ins["trimmed_zones"] >= 1
     assert abs(ins["trimmed_area_mm2"] - band) < 0.1 * band
+    depth = -20 * math.cos(math.radians(110))
+    assert abs(ins["skirt_depth_mm"] - depth) < 0.05
+    assert abs(ins["skirt_area_mm2"] - band) < 0.03 * band
     checked = stk.design_template(V, F, ring, thickness=2.0, inside=[0, 0, 20], insertion=[0, 0, -1])
     assert checked["solid"]["valid"] and checked["insertion"]["removable"]
+    sv, _ = checked["shell"]
+    assert abs(sv[:, 2].min() + depth) < 0.05
     kept = stk.design_template(V, F, ring, thickness=2.0, inside=[0, 0, 20], insertion=[0, 0, -1], block_out=False)
     assert not kept["insertion"]["removable"] and len(kept["insertion"]["blocking"]) > 0
     auto = stk.design_template(V, F, ring, thickness=2.0, inside=[0, 0, 20], insertion="auto", check=False)

@@ -4,6 +4,7 @@
 #include "st/guide/sleeve.h"
 
 #include "st/design/blockout.h"
+#include "st/design/skirt.h"
 #include "st/design/insertion.h"
 #include "st/validate/removal.h"
 
@@ -114,8 +115,14 @@ InsertionReport analyse_insertion(const AabbTree& tree, const TriangleMesh& regi
   return report;
 }
 
-// The region's faces after block-out, its unused vertices dropped (rim and sources renumbered).
-void apply_block_out(CutResult& inner, BlockOutResult&& b) {
+// The region's faces after block-out, its unused vertices dropped (rim and sources renumbered). With
+// zones trimmed at the rim, marks the region's vertices on the rim as cut and gives the positions of the
+// rim vertices dropped (where the skirt goes, skirt.h).
+struct RimChange {
+  std::vector<std::uint8_t> on_input_rim; ///< per region vertex
+  std::vector<Vec3> dropped_rim;
+};
+RimChange apply_block_out(CutResult& inner, BlockOutResult&& b) {
   std::vector<Index> all(b.triangles.size()), old_of; // old_of: per kept vertex, its index before
   std::iota(all.begin(), all.end(), Index{0});
   TriangleMesh region = submesh(TriangleMesh{inner.region.positions, std::move(b.triangles)}, all, &old_of);
@@ -126,6 +133,13 @@ void apply_block_out(CutResult& inner, BlockOutResult&& b) {
     source.push_back(inner.source[old_of[v]]);
     source_vertex.push_back(inner.source_vertex[old_of[v]]);
   }
+  RimChange change;
+  if (b.rim_changed) {
+    change.on_input_rim.assign(region.vertex_count(), 0);
+    for (Index v : inner.rim)
+      if (renumber[v] != kInvalidIndex) change.on_input_rim[renumber[v]] = 1;
+      else change.dropped_rim.push_back(inner.region.positions[v]);
+  }
   inner.region = std::move(region);
   if (b.rim_changed) // trimmed zones: the rim is the region's one border loop (block_out checked it)
     inner.rim = border_loops(inner.region, MeshTopology(inner.region).all_opposites()).front();
@@ -133,6 +147,7 @@ void apply_block_out(CutResult& inner, BlockOutResult&& b) {
     for (Index& v : inner.rim) v = renumber[v];
   inner.source = std::move(source);
   inner.source_vertex = std::move(source_vertex);
+  return change;
 }
 
 // The inner surface's area within `reach` of the bone: kept faces lie at the clearance (their
@@ -196,6 +211,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   const TriangleMesh bone_region = inner.region;
   result.times.inner_segmentation = seconds_since(t0);
   std::optional<SweepTest> sweep; // the bone prepared for the block-out's and the removal check's sweeps
+  RimChange rim_change;           // where block-out trimmed the rim
   if (options.analyse_insertion) {
     t0 = Clock::now();
     if (!bone_tree) bone_tree.emplace(bone);
@@ -214,13 +230,26 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
       ins.trimmed_area_mm2 = b.trimmed_area_mm2;
       ins.unfilled = b.unfilled;
       ins.filled = b.filled;
-      apply_block_out(inner, std::move(b));
+      rim_change = apply_block_out(inner, std::move(b));
       result.times.block_out = seconds_since(t0);
       result.times.inner_segmentation += result.times.block_out;
     }
   }
   t0 = Clock::now();
   displace(topology, inner, options.clearance);
+  // Where zones were cut off at the rim, the skirt hangs from the silhouette; the guide without it is
+  // kept to fall back on if the guide with it fails its check.
+  std::optional<CutResult> unskirted;
+  if (!rim_change.dropped_rim.empty()) {
+    unskirted = inner;
+    InsertionReport& ins = result.insertion;
+    const SkirtResult skirt = add_skirt(inner, rim_change.on_input_rim, rim_change.dropped_rim, ins.direction,
+                                        *bone_tree, options.clearance, ins.filled);
+    ins.skirt_faces = skirt.faces;
+    ins.skirt_area_mm2 = skirt.area_mm2;
+    ins.skirt_depth_mm = skirt.max_depth_mm;
+    if (skirt.faces == 0) unskirted.reset();
+  }
   result.curve = curve.polyline;
   result.inner_rim_points = inner.rim.size();
   result.times.inner_segmentation += seconds_since(t0);
@@ -235,7 +264,6 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   guide_options.clearance = options.clearance;
   guide_options.thickness = options.thickness;
   guide_options.check_blade_paths = options.check;
-  result.body_inner_faces = inner.region.face_count();
   std::optional<template_detail::ShellBuild> built;
   std::optional<GuideResult> guide;
   auto check = [&](const TriangleMesh& mesh) {
@@ -246,6 +274,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   };
   // One contouring's shell (and its contoured alternative) with the parts: true when it passed.
   auto accept = [&](bool tetrahedra) {
+    result.body_inner_faces = inner.region.face_count();
     built = template_detail::build_shell(inner, options, tetrahedra, result);
     for (int contoured = 0; contoured < (built->contoured ? 2 : 1); ++contoured) {
       if (contoured) built->shell = std::move(*built->contoured);
@@ -270,12 +299,28 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     }
     return false;
   };
-  if (!accept(false)) {
-    const std::string cubes = result.solid.summary();
-    if (!accept(true))
-      throw GeometryError("the template shell failed its check: " + result.solid.summary() +
-                          " (contoured by cubes: " + cubes + ")");
+  auto design_shell = [&]() -> std::optional<std::string> {
+    try {
+      if (accept(false)) return std::nullopt;
+      const std::string cubes = result.solid.summary();
+      if (accept(true)) return std::nullopt;
+      return "the template shell failed its check: " + result.solid.summary() + " (contoured by cubes: " + cubes + ")";
+    } catch (const GeometryError& e) {
+      if (!unskirted) throw;
+      return e.what();
+    }
+  };
+  std::optional<std::string> failure = design_shell();
+  if (failure && unskirted) { // the skirt's doing: the guide ends at the silhouette instead
+    inner = std::move(*unskirted);
+    InsertionReport& ins = result.insertion;
+    ins.filled.resize(inner.region.face_count());
+    ins.skirt_faces = 0;
+    ins.skirt_area_mm2 = ins.skirt_depth_mm = 0.0;
+    ins.skirt_dropped = *failure;
+    failure = design_shell();
   }
+  if (failure) throw GeometryError(*failure);
   result.shell = std::move(built->shell.mesh);
   result.times.total = result.times.inner_segmentation + result.times.offset + result.times.outer_points +
                        result.times.outer_segmentation + result.times.connection;

@@ -124,6 +124,10 @@ nlohmann::json to_json(const TemplateResult& r, const TemplateOptions& options) 
                         {"blocked_out_zones", ins.blocked_out_zones},
                         {"trimmed_zones", ins.trimmed_zones},
                         {"trimmed_area_mm2", ins.trimmed_area_mm2},
+                        {"skirt_faces", ins.skirt_faces},
+                        {"skirt_area_mm2", ins.skirt_area_mm2},
+                        {"skirt_depth_mm", ins.skirt_depth_mm},
+                        {"skirt_dropped", ins.skirt_dropped},
                         {"unfilled", points(ins.unfilled)}};
     if (ins.removal_checked) {
       out["insertion"]["removable"] = ins.removable;

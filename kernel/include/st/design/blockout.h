@@ -14,8 +14,9 @@
 // contour). The kept faces are the bone's own, so the guide still fits it exactly where it can reach it.
 //
 // A zone that reaches the region's rim cannot be filled from its own border (the rim would stay under
-// the overhang): it is cut off instead, and the rim follows the zone's edge on the visible side (the
-// guide ends where the bone turns under), provided the region keeps one simple border loop.
+// the overhang): it is cut off instead, and the rim follows the zone's edge on the visible side (where the
+// bone turns under), provided the region keeps one simple border loop. The design then hangs a skirt from
+// that edge down to the drawn border's depth (skirt.h), so the guide still covers what was drawn.
 //
 // A zone is left as it is (and named) when its borders do not make such a polygon seen along d (a
 // border vertex used twice, borders that cross seen along d, a fill edge that is already an edge of

@@ -85,6 +85,11 @@ struct InsertionReport {
   std::size_t blocked_out_zones = 0; ///< hidden zones filled
   std::size_t trimmed_zones = 0;     ///< hidden zones at the rim cut off (the guide ends where the bone turns under)
   double trimmed_area_mm2 = 0.0;
+  std::size_t skirt_faces = 0; ///< the skirt hung from the silhouette where zones were cut off (skirt.h)
+  double skirt_area_mm2 = 0.0;
+  double skirt_depth_mm = 0.0;             ///< its deepest wall along the direction
+  std::string skirt_dropped;               ///< why the guide ends at the silhouette after all (the shell with the
+                                           ///< skirt failed), or empty
   std::vector<Vec3> unfilled;              ///< a point of each hidden zone block-out left as it was
   std::vector<std::uint8_t> filled;        ///< per inner-surface face: 1 for a block-out fill
   double contact_area_mm2 = 0.0;           ///< inner surface within clearance + h/4 of the bone
