@@ -5,9 +5,12 @@
 #include "st/core/errors.h"
 #include "st/core/predicates.h"
 #include "st/core/ray_triangle.h"
+#include "st/boolean/triangle_intersection.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <mutex>
 
 namespace st {
@@ -24,6 +27,40 @@ bool crosses(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const V
   if (sp == 0 || sq == 0 || sp == sq) return false;
   const int s1 = orient3d(p, q, a, b), s2 = orient3d(p, q, b, c), s3 = orient3d(p, q, c, a);
   return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
+}
+
+/// A face within this angle (radians) of lying along the way off counts as facing both ways.
+constexpr double kAcross = 1e-6;
+constexpr std::uint8_t kFront = 1, kBack = 2, kSilhouette = 4, kOpen = 8;
+
+/// Per vertex: kFront when every face around it faces the way off `w` (beyond kAcross), kBack when
+/// every one faces back, else kSilhouette, with kOpen when the fan around it is not closed (a border or
+/// a non-manifold fan). An edge with a kFront or kBack end joins two faces that face the same way.
+std::vector<std::uint8_t> sweeping_vertices(const TriangleMesh& mesh, const Vec3& w) {
+  // A fan is closed when each neighbour appears in two of its faces: the XOR of a bijective hash of
+  // the neighbours over the faces is then 0 (a border's two ends leave their hashes, never 0).
+  auto mix = [](std::uint64_t x) {
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+    return x ^ (x >> 31);
+  };
+  std::vector<std::uint64_t> fan(mesh.vertex_count(), 0);
+  std::vector<std::uint8_t> flags(mesh.vertex_count(), 0);
+  for (Index f = 0; f < mesh.face_count(); ++f) {
+    const Triangle& t = mesh.triangles[f];
+    const Vec3 n = triangle_normal(mesh, f);
+    const double c = n.dot(w), margin = kAcross * n.norm();
+    const std::uint8_t facing = c > margin ? kFront : c < -margin ? kBack : kSilhouette;
+    for (int k = 0; k < 3; ++k) {
+      flags[t[k]] |= facing;
+      fan[t[k]] ^= mix(t[(k + 1) % 3]) ^ mix(t[(k + 2) % 3]);
+    }
+  }
+  for (Index v = 0; v < mesh.vertex_count(); ++v) {
+    if (fan[v] != 0) flags[v] = kSilhouette | kOpen;
+    else if (flags[v] != kFront && flags[v] != kBack) flags[v] = kSilhouette;
+  }
+  return flags;
 }
 
 struct Hit {
@@ -170,14 +207,24 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
       }
     }
   });
-  // 3. Bone edges against the parallelograms guide edges sweep (each edge once, from its first face).
+  // 3. Bone edges against the parallelograms guide edges sweep (each edge once, from its first face),
+  //    only for the edges where the guide's surface turns from facing the way off to facing back (see
+  //    removal.h): an edge between two faces that both face the same way sweeps inside the solid.
+  //    Per face (the block-out's question, SweepStart::raised) every edge counts.
+  const bool per_face = start == SweepStart::raised;
+  const std::vector<std::uint8_t> sweeps = per_face ? std::vector<std::uint8_t>{} : sweeping_vertices(guide, w);
   detail::parallel_for(guide.face_count(), 256, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f) {
       if (!near_guide[f]) continue;
       const Triangle& t = guide.triangles[f];
       for (int k = 0; k < 3; ++k) {
         const Index i0 = t[k], i1 = t[(k + 1) % 3];
-        if (i0 > i1) continue; // the other face of a closed mesh's edge takes it
+        if (per_face) {
+          if (i0 > i1) continue; // the other face of a closed mesh's edge takes it
+        } else {
+          if (!(sweeps[i0] & sweeps[i1] & kSilhouette)) continue;
+          if (i0 > i1 && !(sweeps[i0] & sweeps[i1] & kOpen)) continue; // the edge's other face takes it
+        }
         const Vec3 &g0 = g_at[i0], &g1 = g_at[i1];
         const Vec3 h0 = g0 + L * w, h1 = g1 + L * w;
         const Vec3 mid = 0.5 * (g0 + g1);
@@ -212,6 +259,30 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
       }
     }
   });
+
+  // 4. The guide's faces at the end of the way against the bone (exact triangle tests): of a closed
+  //    guide only those that face the way off or across it (the others lie inside what it swept).
+  const bool closed = std::none_of(sweeps.begin(), sweeps.end(), [](std::uint8_t v) { return (v & kOpen) != 0; });
+  if (!per_face)
+    detail::parallel_for(guide.face_count(), 512, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t f = begin; f < end; ++f) {
+        if (!near_guide[f]) continue;
+        const Triangle& t = guide.triangles[f];
+        const std::array<Vec3, 3> p{g_at[t[0]] + L * w, g_at[t[1]] + L * w, g_at[t[2]] + L * w};
+        const Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]);
+        if (closed && n.dot(w) < -kAcross * n.norm()) continue;
+        BoundingBox box;
+        for (const Vec3& x : p) box.extend(x);
+        bool meets = false;
+        bone.for_each_in_box(box.inflated(pad), [&](Index bf) {
+          meets = meets ||
+                  triangles_intersect(p[0], p[1], p[2], bone_corner(bf, 0), bone_corner(bf, 1), bone_corner(bf, 2));
+        });
+        if (meets)
+          collector.add(
+              {(guide.positions[t[0]] + guide.positions[t[1]] + guide.positions[t[2]]) / 3.0, static_cast<Index>(f)});
+      }
+    });
 
   std::vector<Hit> hits = collector.take();
   // The same order whatever the threads did.

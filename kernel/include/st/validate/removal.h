@@ -11,6 +11,15 @@
 //     the guide's triangles;
 //   - every bone edge near a guide edge against the parallelogram that guide edge sweeps (its two
 //     triangles).
+// Of a guide moving as a whole (SweepStart::shrunk) only the edges where its surface turns from facing
+// the way off to facing back (within 1e-6 rad; and every border edge) sweep the boundary of the solid it
+// sweeps; an edge between two faces facing the same way sweeps inside it, as the surface there is a
+// height field across the way. The boundary is then the guide at the start, the guide at the end of the
+// way (of a closed guide, its faces facing the way off) and those edges' parallelograms, so a fourth
+// family replaces the other edges: the guide's faces at the end of the way against the bone's triangles
+// (exact triangle-triangle tests). A bone triangle the guide sweeps over crosses that boundary (family 3
+// or 4, or a path of family 1) or lies inside (family 2). The block-out's per-face question
+// (SweepStart::raised) keeps every edge, so that each face answers for its own prism.
 // Boxes cull before the tests: only the corners and edges of guide faces whose box, swept by L off
 // the bone (and grown by the lifts), meets a bone triangle's box; only bone vertices of faces whose box,
 // swept by L towards the guide, meets a guide triangle's box; and a bone edge only when its box meets
