@@ -92,6 +92,16 @@ double tooth_cavity_volume() {
   return v;
 }
 
+/// The faces of the tooth and plate within 10 mm of the axis (their centres).
+TriangleMesh tooth_region(const TriangleMesh& bone) {
+  TriangleMesh region;
+  region.positions = bone.positions;
+  for (const Triangle& t : bone.triangles)
+    if ((bone.positions[t[0]] + bone.positions[t[1]] + bone.positions[t[2]]).head<2>().norm() / 3.0 < 10.0)
+      region.triangles.push_back(t);
+  return region;
+}
+
 /// The template over the tooth, its border a circle of radius 10 on the plate.
 TemplateOptions tooth_template(bool block_out) {
   TemplateOptions o;
@@ -110,14 +120,44 @@ TemplateOptions tooth_template(bool block_out) {
 TEST(BlockOut, UndercutOfAToothIsItsClosedFormArea) {
   const TriangleMesh bone = tooth_on_plate(0.3);
   const AabbTree tree(bone);
-  TriangleMesh region;
-  region.positions = bone.positions;
-  for (const Triangle& t : bone.triangles)
-    if ((bone.positions[t[0]] + bone.positions[t[1]] + bone.positions[t[2]]).head<2>().norm() / 3.0 < 10.0)
-      region.triangles.push_back(t);
+  const TriangleMesh region = tooth_region(bone);
   const Undercut u = undercut(tree, region, Vec3(0, 0, -1), 0.05);
   const double expected = tooth_undercut_area();
   EXPECT_NEAR(u.hidden_mm2, expected, 0.02 * expected);
+}
+
+TEST(BlockOut, UndercutOfAFinelyTessellatedToothSamplesEveryFewFacesAndKeepsItsArea) {
+  // 1024 segments round: faces far smaller than a sample's share at 0.5 mm spacing, so every
+  // stride-th face is sampled and the faces between are resolved near the hidden samples. The area
+  // keeps to the closed form, and away from the zones' borders every face is classed as the closed
+  // form classes it (hidden: the plate ring 3 < r < 4, the post, the bulge below its widest ring).
+  const TriangleMesh bone = tooth_on_plate(0.3, 1024);
+  const AabbTree tree(bone);
+  const TriangleMesh region = tooth_region(bone);
+  const double spacing = 0.5;
+  ASSERT_GT(0.5 * spacing * spacing * static_cast<double>(region.face_count()) / surface_area(region), 10.0);
+  const Undercut u = undercut(tree, region, Vec3(0, 0, -1), spacing);
+  const double expected = tooth_undercut_area();
+  EXPECT_NEAR(u.hidden_mm2, expected, 0.02 * expected);
+  double wrong = 0.0, classed = 0.0;
+  for (Index f = 0; f < region.face_count(); ++f) {
+    const Triangle& t = region.triangles[f];
+    const Vec3 c = (region.positions[t[0]] + region.positions[t[1]] + region.positions[t[2]]) / 3.0;
+    const double r = c.head<2>().norm();
+    bool hidden = false;
+    if (c.z() < 1e-9) { // the plate
+      if (std::abs(r - 3.0) < 0.35 || std::abs(r - 4.0) < 0.35) continue;
+      hidden = r > 3.0 && r < 4.0;
+    } else if (c.z() < 8.0 - 1e-9) { // the post and its bulge
+      if (std::abs(c.z() - 5.0) < 0.15 || c.z() < 0.15) continue;
+      hidden = c.z() < 5.0;
+    }
+    const double area = 0.5 * triangle_normal(region, f).norm();
+    classed += area;
+    if ((u.hidden[f] > 0.5f) != hidden) wrong += area;
+  }
+  EXPECT_GT(classed, 0.8 * surface_area(region));
+  EXPECT_LT(wrong, 0.002 * classed);
 }
 
 TEST(BlockOut, ToothGuideComesOffOnlyWhenBlockedOut) {

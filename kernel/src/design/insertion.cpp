@@ -8,7 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
+#include <unordered_set>
 
 namespace st {
 
@@ -128,17 +130,56 @@ Undercut undercut(const AabbTree& bone, const TriangleMesh& region, const Vec3& 
   Undercut u;
   u.direction = checked_direction(direction);
   u.area_mm2 = surface_area(region);
-  const std::vector<Sample> samples = samples_of(region, spacing, 1);
+  const Index nf = region.face_count();
+  const Sight sight = sight_of(bone, reach);
+  // Faces much smaller than a sample's share of the area: every stride-th face is sampled.
+  const double per_sample = 0.5 * spacing * spacing;
+  const auto stride = nf > 0 ? std::max<std::size_t>(1, static_cast<std::size_t>(per_sample * nf / u.area_mm2)) : 1;
+  const std::vector<Sample> samples = samples_of(region, spacing, stride);
   std::vector<std::uint8_t> flags;
-  u.hidden_mm2 = hidden_area(sight_of(bone, reach), region, samples, u.direction, &flags);
-  std::vector<double> hidden(region.face_count(), 0.0), total(region.face_count(), 0.0);
+  hidden_area(sight, region, samples, u.direction, &flags);
+  std::vector<double> hidden(nf, 0.0), total(nf, 0.0);
   for (std::size_t i = 0; i < samples.size(); ++i) {
     total[samples[i].face] += samples[i].area;
     if (flags[i]) hidden[samples[i].face] += samples[i].area;
   }
-  u.hidden.resize(region.face_count());
-  for (Index f = 0; f < region.face_count(); ++f)
-    u.hidden[f] = total[f] > 0.0 ? static_cast<float>(hidden[f] / total[f]) : 0.0f;
+  std::vector<double> fraction(nf, 0.0); // of each face's area hidden
+  for (Index f = 0; f < nf; ++f)
+    if (total[f] > 0.0) fraction[f] = hidden[f] / total[f];
+  if (stride > 1) {
+    // The faces between samples: one turned away from the guide is hidden; one within two spacings of
+    // a hidden sample is tested at its centre (so a hidden zone's border is found face by face); the
+    // others lie among visible samples and count as seen.
+    const double cell = 2.0 * spacing;
+    auto key = [cell](const Vec3& p, int dx, int dy, int dz) {
+      const auto c = [&](double x, int o) {
+        return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x / cell)) + o) & 0x1fffff;
+      };
+      return c(p.x(), dx) << 42 | c(p.y(), dy) << 21 | c(p.z(), dz);
+    };
+    std::unordered_set<std::uint64_t> near_hidden;
+    for (std::size_t i = 0; i < samples.size(); ++i)
+      if (flags[i])
+        for (int dx = -1; dx <= 1; ++dx)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dz = -1; dz <= 1; ++dz) near_hidden.insert(key(samples[i].point, dx, dy, dz));
+    detail::parallel_for(nf, 1024, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t f = begin; f < end; ++f) {
+        if (total[f] > 0.0) continue;
+        const Triangle& t = region.triangles[f];
+        const Vec3 &a = region.positions[t[0]], &b = region.positions[t[1]], &c = region.positions[t[2]];
+        const Vec3 centre = (a + b + c) / 3.0;
+        if (orient3d(a, b, c, a + u.direction) < 0 ||
+            (near_hidden.count(key(centre, 0, 0, 0)) && is_hidden(sight, centre, a, b, c, u.direction)))
+          fraction[f] = 1.0;
+      }
+    });
+  }
+  u.hidden.resize(nf);
+  for (Index f = 0; f < nf; ++f) {
+    u.hidden[f] = static_cast<float>(fraction[f]);
+    if (fraction[f] > 0.0) u.hidden_mm2 += 0.5 * triangle_normal(region, f).norm() * fraction[f];
+  }
   return u;
 }
 

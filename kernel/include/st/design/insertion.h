@@ -13,7 +13,10 @@
 // on, to rounding, does not count. Faces are sampled by area (each split into
 // k x k equal triangles, k = ceil(longest edge / spacing), one sample at each centre), so the hidden
 // area converges as the spacing shrinks: a visibility that is exact per sample, not a test of face
-// normals alone.
+// normals alone. Where faces are much smaller than a sample's share of the area (spacing^2 / 2; a
+// finely triangulated scan), every stride-th face is sampled; of the faces between, those turned away
+// are hidden, those within two spacings of a hidden sample are tested at their centres (a hidden zone's
+// border is found face by face), and the rest, among visible samples only, count as seen.
 
 #include "st/core/aabb_tree.h"
 #include "st/core/mesh.h"
