@@ -46,7 +46,6 @@ AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces) : mesh_(m
   detail::parallel_for(items.size(), 8192, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       items[i].box = triangle_box(mesh, faces_[i]);
-      items[i].centre = items[i].box.center();
       items[i].face = faces_[i];
     }
   });
@@ -95,7 +94,9 @@ Index AabbTree::build(std::vector<Item>& items, Index begin, Index end, Index id
   box.size().maxCoeff(&axis);
   const Index mid = begin + (end - begin) / 2;
   std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
-                   [axis](const Item& x, const Item& y) { return x.centre[axis] < y.centre[axis]; });
+                   [axis](const Item& x, const Item& y) { // by centre: (min + max) / 2, halving exact
+                     return x.box.min[axis] + x.box.max[axis] < y.box.min[axis] + y.box.max[axis];
+                   });
   const Index left = id + 1;
   Index right = kInvalidIndex;
   Index count = 0;
