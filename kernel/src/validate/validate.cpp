@@ -6,6 +6,7 @@
 #include "st/boolean/triangle_intersection.h"
 
 #include <algorithm>
+#include <optional>
 #include <sstream>
 #include <unordered_map>
 #include <utility>
@@ -159,8 +160,16 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
   detail::parallel_for(points.size(), kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
     DistanceStats& c = chunks[begin / kGrain];
     c.min = std::numeric_limits<double>::infinity();
+    // The previous point's closest point lies on the surface: its distance bounds this one's, so the
+    // search (of neighbouring points, as meshes number them) looks only within it; the distance found
+    // is the same.
+    std::optional<Vec3> last;
     for (std::size_t i = begin; i < end; ++i) {
-      const double d = tree.closest_point(points[i])->distance;
+      std::optional<ClosestPoint> near;
+      if (last) near = tree.closest_point(points[i], (points[i] - *last).norm() * (1.0 + 1e-9));
+      if (!near) near = tree.closest_point(points[i]);
+      last = near->point;
+      const double d = near->distance;
       c.min = std::min(c.min, d);
       c.max = std::max(c.max, d);
       c.mean += d; // the sum, for now
