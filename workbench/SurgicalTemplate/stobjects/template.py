@@ -1,8 +1,8 @@
 """The template (Mesh::FeaturePython): the shell the kernel designs inside a boundary (Thickness,
 Clearance, Resolution); a kernel failure raises in execute() and the object keeps its last good mesh.
 Insertion (Auto, Direction, None): along the least-undercut direction or InsertionDirection the kernel
-blocks the undercuts out and checks that the finished guide comes off (UndercutArea, BlockedOutVolume,
-Removable hold the results) and measures how firmly the seated guide is held pressed along it
+blocks the undercuts out, hangs a skirt where the border lies where the bone turns under, and checks
+that the finished guide comes off (UndercutArea, BlockedOutVolume, SkirtArea, Removable hold the results) and measures how firmly the seated guide is held pressed along it
 (StabilityScore, 0..1, st/validate/stability.h); None keeps the bone's surface as it is, with no analysis."""
 import FreeCAD as App
 
@@ -50,6 +50,9 @@ class Template(Feature):
                  "(before block-out)", 0.0, readonly=True)
         self.add(obj, "App::PropertyVolume", "BlockedOutVolume", "Result",
                  "Volume the block-out fills over the bone's undercuts", 0.0, readonly=True)
+        self.add(obj, "App::PropertyArea", "SkirtArea", "Result",
+                 "Area of the skirt hung along the insertion direction where the drawn border lies where the "
+                 "bone turns under (0 where none is needed or it could not be hung)", 0.0, readonly=True)
         self.add(obj, "App::PropertyVector", "InsertionUsed", "Result",
                  "The insertion direction of the last design (the least-undercut one with Auto)",
                  App.Vector(0, 0, 0), readonly=True)
@@ -94,6 +97,14 @@ class Template(Feature):
                            f"{d[2]:.3f})")
             if "InsertionUsed" in obj.PropertiesList:
                 obj.InsertionUsed = App.Vector(*[float(x) for x in d])
+            if "SkirtArea" in obj.PropertiesList:
+                obj.SkirtArea = float(ins.get("skirt_area_mm2", 0.0))
+            if ins.get("skirt_faces"):
+                obj.Status += f"; skirt {ins['skirt_area_mm2']:.1f} mm^2 down to {ins['skirt_depth_mm']:.1f} mm"
+            if ins.get("skirt_dropped"):
+                obj.Status += "; no skirt: the guide ends where the bone turns under"
+                App.Console.PrintWarning(f"{obj.Label}: the guide ends where the bone turns under, without the "
+                                         f"skirt down to the drawn border (with it: {ins['skirt_dropped']})\n")
             if "Removable" in obj.PropertiesList:
                 obj.BlockedOutVolume = float(ins["blocked_out_volume_mm3"])
                 obj.Removable = bool(ins.get("removable", False))
