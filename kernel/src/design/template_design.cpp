@@ -313,6 +313,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   std::optional<std::string> failure = design_shell();
   if (failure && unskirted) { // the skirt's doing: the guide ends at the silhouette instead
     inner = std::move(*unskirted);
+    unskirted.reset(); // a failure now is the guide's own: thrown as it is
     InsertionReport& ins = result.insertion;
     ins.filled.resize(inner.region.face_count());
     ins.skirt_faces = 0;
