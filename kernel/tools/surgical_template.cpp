@@ -25,10 +25,15 @@
 #endif
 
 #include <nlohmann/json.hpp>
+#include <malloc.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <chrono>
+#include <climits>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -418,9 +423,31 @@ int check(int argc, char** argv) {
   return r.valid() ? 0 : 1;
 }
 
+// The tool's working memory in transparent huge pages. A design touches about 400 bytes per input
+// triangle, much of it freshly allocated, and on virtual machines each first touch of a 4 KiB page
+// costs microseconds (200k-triangle case: 24k faults, a third of the wall clock). Every thread
+// allocates from the main heap, which keeps what is freed; a reserve at its top is advised for huge
+// pages (virtual until touched). Where huge pages are off this does nothing; the results are the same.
+void use_huge_pages() {
+#if defined(__GLIBC__) && defined(MADV_HUGEPAGE)
+  constexpr std::size_t kHuge = std::size_t{2} << 20;
+  constexpr std::size_t kReserve = std::size_t{1} << 30;
+  mallopt(M_ARENA_MAX, 1);            // threads share the advised heap
+  mallopt(M_MMAP_MAX, 0);             // large blocks from it too, not from fresh mappings
+  mallopt(M_TRIM_THRESHOLD, INT_MAX); // what is freed stays (the reserve too), its pages there
+  const auto begin = reinterpret_cast<std::uintptr_t>(sbrk(0));
+  void* reserve = std::malloc(kReserve);
+  const auto end = reinterpret_cast<std::uintptr_t>(sbrk(0));
+  const std::uintptr_t first = (begin + kHuge - 1) / kHuge * kHuge;
+  if (reserve != nullptr && end > first) madvise(reinterpret_cast<void*>(first), end - first, MADV_HUGEPAGE);
+  std::free(reserve);
+#endif
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
+  use_huge_pages();
   try {
     const std::string command = argc > 1 ? argv[1] : "";
     if (command == "design") return design(argc, argv);
