@@ -1,4 +1,5 @@
 #include "st/design/template_design.h"
+#include "detail/parallel.h"
 #include "detail/timing.h"
 #include "design/template_shell.h"
 #include "st/guide/sleeve.h"
@@ -182,6 +183,56 @@ double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
   return (p - (a + t * ab)).norm();
 }
 
+// How the guide comes off the bone and how well it sits: the removal check along the insertion
+// direction, the contact area and the stability.
+void analyse_removal(TemplateResult& result, const TemplateOptions& options, const AabbTree& bone_tree,
+                     std::optional<SweepTest>& sweep) {
+  auto t0 = Clock::now();
+  InsertionReport& ins = result.insertion;
+  if (!sweep) sweep.emplace(bone_tree);
+  const RemovalReport removal = (*sweep)(result.shell, ins.direction, options.removal_distance);
+  ins.removal_checked = true;
+  ins.removable = removal.removable;
+  ins.removal_distance = removal.distance;
+  ins.blocking = removal.blocking;
+  ins.blocked_faces = removal.blocked_faces;
+  ins.inner_area_mm2 = surface_area(result.inner);
+  ins.contact_area_mm2 =
+      contact_area(result.inner, ins.filled, bone_tree, options.clearance + 0.25 * result.resolution);
+  result.times.removal = seconds_since(t0);
+  t0 = Clock::now();
+  // Contacts of the inner surface (block-out fills left out: they bridge what the guide cannot reach).
+  const AabbTree covered(ins.region.empty() ? result.inner : ins.region);
+  result.stability =
+      guide_stability(result.inner, bone_tree, ins.direction, options.clearance + 0.25 * result.resolution,
+                      result.outer.positions, result.curve, covered, 0.05, ins.filled);
+  result.times.stability = seconds_since(t0);
+}
+
+// The fit: the inner surface to the bone region it was cut from, the outer surface to the inner, and
+// the rim (the inner region's border, moved by the clearance) to the curve drawn on the bone.
+void measure_fit(TemplateResult& result, const TriangleMesh& bone_region, const std::vector<Index>& rim_vertices,
+                 const std::vector<Vec3>& poly) {
+  result.fit.inner_to_bone = distances_to_surface(result.inner.positions, bone_region);
+  result.fit.outer_to_inner = distances_to_surface(result.outer.positions, result.inner);
+  DistanceStats rim;
+  rim.min = std::numeric_limits<double>::infinity();
+  double sum = 0.0;
+  for (const Index v : rim_vertices) {
+    const Vec3& p = result.inner.positions[v]; // the inner region, moved there
+    // The curve lies on the bone, so the expected distance is the clearance.
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < poly.size(); ++i)
+      best = std::min(best, point_segment_distance(p, poly[i], poly[(i + 1) % poly.size()]));
+    rim.min = std::min(rim.min, best);
+    rim.max = std::max(rim.max, best);
+    sum += best;
+  }
+  rim.count = rim_vertices.size();
+  rim.mean = rim.count ? sum / static_cast<double>(rim.count) : 0.0;
+  result.fit.rim_to_curve = rim;
+}
+
 } // namespace
 
 TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& options) {
@@ -197,6 +248,9 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     if (!bone_tree) bone_tree.emplace(bone);
     return *bone_tree;
   });
+  // The bone's tree, for the insertion analysis, is built beside the curve and the cut.
+  std::optional<detail::Background> bone_tree_build;
+  if (options.analyse_insertion && !bone_tree) bone_tree_build.emplace([&] { bone_tree.emplace(bone); });
 
   // 1. Inner surface: the boundary curve and the cut.
   auto t0 = Clock::now();
@@ -214,7 +268,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   RimChange rim_change;           // where block-out trimmed the rim
   if (options.analyse_insertion) {
     t0 = Clock::now();
-    if (!bone_tree) bone_tree.emplace(bone);
+    if (bone_tree_build) bone_tree_build->join();
     result.insertion = analyse_insertion(*bone_tree, bone_region, options.insertion, options.removal_distance);
     result.times.insertion = seconds_since(t0);
     if (options.block_out && result.insertion.undercut_area_mm2 > 0.0) {
@@ -345,53 +399,16 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   }
   result.inner = std::move(inner.region);
   result.outer = std::move(built->shell.outer);
-  if (options.analyse_insertion && options.check) {
-    t0 = Clock::now();
-    InsertionReport& ins = result.insertion;
-    if (!sweep) sweep.emplace(*bone_tree);
-    const RemovalReport removal = (*sweep)(result.shell, ins.direction, options.removal_distance);
-    ins.removal_checked = true;
-    ins.removable = removal.removable;
-    ins.removal_distance = removal.distance;
-    ins.blocking = removal.blocking;
-    ins.blocked_faces = removal.blocked_faces;
-    ins.inner_area_mm2 = surface_area(result.inner);
-    ins.contact_area_mm2 =
-        contact_area(result.inner, ins.filled, *bone_tree, options.clearance + 0.25 * result.resolution);
-    result.times.removal = seconds_since(t0);
-    result.times.validation += result.times.removal;
-    t0 = Clock::now();
-    // Contacts of the inner surface (block-out fills left out: they bridge what the guide cannot reach).
-    const AabbTree covered(ins.region.empty() ? result.inner : ins.region);
-    result.stability =
-        guide_stability(result.inner, *bone_tree, ins.direction, options.clearance + 0.25 * result.resolution,
-                        result.outer.positions, result.curve, covered, 0.05, ins.filled);
-    result.times.stability = seconds_since(t0);
-    result.times.validation += result.times.stability;
-  }
-  if (options.check && options.measure_fit) {
-    t0 = Clock::now();
-    result.fit.inner_to_bone = distances_to_surface(result.inner.positions, bone_region);
-    result.fit.outer_to_inner = distances_to_surface(result.outer.positions, result.inner);
-    DistanceStats rim;
-    rim.min = std::numeric_limits<double>::infinity();
-    double sum = 0.0;
-    const auto& poly = curve.polyline;
-    for (const Index v : inner.rim) {
-      const Vec3& p = result.inner.positions[v]; // the inner region, moved there
-      // The curve lies on the bone, so the expected distance is the clearance.
-      double best = std::numeric_limits<double>::infinity();
-      for (std::size_t i = 0; i < poly.size(); ++i)
-        best = std::min(best, point_segment_distance(p, poly[i], poly[(i + 1) % poly.size()]));
-      rim.min = std::min(rim.min, best);
-      rim.max = std::max(rim.max, best);
-      sum += best;
-    }
-    rim.count = inner.rim.size();
-    rim.mean = rim.count ? sum / static_cast<double>(rim.count) : 0.0;
-    result.fit.rim_to_curve = rim;
-    result.times.validation += seconds_since(t0);
-  }
+  // The analyses of the finished guide read it and the bone only: the fit runs on a thread of its own
+  // beside the removal check and the stability (each also shares its loops over the threads), and
+  // each writes its own part of the result, so the result is the same however they interleave.
+  const auto t_analyses = Clock::now();
+  std::optional<detail::Background> fit;
+  if (options.check && options.measure_fit)
+    fit.emplace([&] { measure_fit(result, bone_region, inner.rim, curve.polyline); });
+  if (options.analyse_insertion && options.check) analyse_removal(result, options, *bone_tree, sweep);
+  if (fit) fit->join();
+  result.times.validation += seconds_since(t_analyses);
   return result;
 }
 

@@ -4,8 +4,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <exception>
+#include <functional>
+#include <optional>
 #include <system_error>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace st::detail {
@@ -36,5 +40,40 @@ template <class Work> void parallel_for(std::size_t n, std::size_t grain, const 
   run(0);
   for (std::thread& t : pool) t.join();
 }
+
+/// Work on a thread of its own beside the caller's (at once, on the caller's, when no thread can be
+/// started). join() waits for it and rethrows what it threw; the destructor waits too, so the work
+/// never outlives what it reads, even when the caller leaves by an exception.
+class Background {
+public:
+  explicit Background(std::function<void()> work) : work_(std::move(work)) {
+    try {
+      thread_.emplace([this] { run(); });
+    } catch (const std::system_error&) {
+      run();
+    }
+  }
+  Background(const Background&) = delete;
+  Background& operator=(const Background&) = delete;
+  ~Background() {
+    if (thread_ && thread_->joinable()) thread_->join();
+  }
+  void join() {
+    if (thread_ && thread_->joinable()) thread_->join();
+    if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
+  }
+
+private:
+  void run() {
+    try {
+      work_();
+    } catch (...) {
+      failure_ = std::current_exception();
+    }
+  }
+  std::function<void()> work_;
+  std::exception_ptr failure_;
+  std::optional<std::thread> thread_;
+};
 
 } // namespace st::detail
