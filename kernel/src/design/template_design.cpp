@@ -183,11 +183,10 @@ double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
   return (p - (a + t * ab)).norm();
 }
 
-// How the guide comes off the bone and how well it sits: the removal check along the insertion
-// direction, the contact area and the stability.
+// How the guide comes off the bone along the insertion direction, and its contact area.
 void analyse_removal(TemplateResult& result, const TemplateOptions& options, const AabbTree& bone_tree,
                      std::optional<SweepTest>& sweep) {
-  auto t0 = Clock::now();
+  const auto t0 = Clock::now();
   InsertionReport& ins = result.insertion;
   if (!sweep) sweep.emplace(bone_tree);
   const RemovalReport removal = (*sweep)(result.shell, ins.direction, options.removal_distance);
@@ -200,26 +199,37 @@ void analyse_removal(TemplateResult& result, const TemplateOptions& options, con
   ins.contact_area_mm2 =
       contact_area(result.inner, ins.filled, bone_tree, options.clearance + 0.25 * result.resolution);
   result.times.removal = seconds_since(t0);
-  t0 = Clock::now();
-  // Contacts of the inner surface (block-out fills left out: they bridge what the guide cannot reach).
-  const AabbTree covered(ins.region.empty() ? result.inner : ins.region);
-  result.stability =
-      guide_stability(result.inner, bone_tree, ins.direction, options.clearance + 0.25 * result.resolution,
-                      result.outer.positions, result.curve, covered, 0.05, ins.filled);
-  result.times.stability = seconds_since(t0);
 }
 
-// The fit: the inner surface to the bone region it was cut from, the outer surface to the inner, and
-// the rim (the inner region's border, moved by the clearance) to the curve drawn on the bone.
-void measure_fit(TemplateResult& result, const TriangleMesh& bone_region, const std::vector<Index>& rim_vertices,
-                 const std::vector<Vec3>& poly) {
-  result.fit.inner_to_bone = distances_to_surface(result.inner.positions, bone_region);
-  result.fit.outer_to_inner = distances_to_surface(result.outer.positions, result.inner);
+// What the inner and outer surfaces tell without the parts: the fit (the inner surface to the bone
+// region it was cut from, the outer surface to the inner, the rim to the curve drawn on the bone) and
+// the stability. They do not read the guide, so they run beside its Boolean step and its check.
+struct SurfaceAnalyses {
+  std::optional<TemplateFit> fit;
+  std::optional<StabilityResult> stability;
+  double stability_seconds = 0.0;
+};
+
+struct SurfaceInputs {
+  const TriangleMesh& inner;       // the inner surface (the region at the clearance)
+  const std::vector<Index>& rim;   // its border
+  const std::vector<Vec3>& outer;  // the outer surface's points
+  const TriangleMesh& bone_region; // the region as cut from the bone
+  const std::vector<Vec3>& curve;  // the curve drawn on the bone
+  const AabbTree* bone_tree;       // with the insertion analysis: for the stability
+  const InsertionReport& insertion;
+};
+
+TemplateFit measure_fit(const SurfaceInputs& in) {
+  TemplateFit fit;
+  fit.inner_to_bone = distances_to_surface(in.inner.positions, in.bone_region);
+  fit.outer_to_inner = distances_to_surface(in.outer, in.inner);
   DistanceStats rim;
   rim.min = std::numeric_limits<double>::infinity();
   double sum = 0.0;
-  for (const Index v : rim_vertices) {
-    const Vec3& p = result.inner.positions[v]; // the inner region, moved there
+  const std::vector<Vec3>& poly = in.curve;
+  for (const Index v : in.rim) {
+    const Vec3& p = in.inner.positions[v]; // the inner region, moved there
     // The curve lies on the bone, so the expected distance is the clearance.
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < poly.size(); ++i)
@@ -228,9 +238,28 @@ void measure_fit(TemplateResult& result, const TriangleMesh& bone_region, const 
     rim.max = std::max(rim.max, best);
     sum += best;
   }
-  rim.count = rim_vertices.size();
+  rim.count = in.rim.size();
   rim.mean = rim.count ? sum / static_cast<double>(rim.count) : 0.0;
-  result.fit.rim_to_curve = rim;
+  fit.rim_to_curve = rim;
+  return fit;
+}
+
+// The fit on a thread of its own beside the stability.
+SurfaceAnalyses analyse_surfaces(const SurfaceInputs& in, const TemplateOptions& options, double resolution) {
+  SurfaceAnalyses out;
+  std::optional<detail::Background> fit;
+  if (options.measure_fit) fit.emplace([&] { out.fit = measure_fit(in); });
+  if (in.bone_tree) {
+    const auto t0 = Clock::now();
+    const InsertionReport& ins = in.insertion;
+    // Contacts of the inner surface (block-out fills left out: they bridge what the guide cannot reach).
+    const AabbTree covered(ins.region.empty() ? in.inner : ins.region);
+    out.stability = guide_stability(in.inner, *in.bone_tree, ins.direction, options.clearance + 0.25 * resolution,
+                                    in.outer, in.curve, covered, 0.05, ins.filled);
+    out.stability_seconds = seconds_since(t0);
+  }
+  if (fit) fit->join();
+  return out;
 }
 
 } // namespace
@@ -320,6 +349,20 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   guide_options.check_blade_paths = options.check;
   std::optional<template_detail::ShellBuild> built;
   std::optional<GuideResult> guide;
+  // The fit and the stability of the candidate shell, beside the check of the guide (or the shell)
+  // (declared after what they read, so that they are joined before it goes).
+  SurfaceAnalyses analyses;
+  std::optional<detail::Background> analysing;
+  auto analyse = [&] {
+    analysing.reset();
+    if (!options.check) return;
+    const AabbTree* tree = options.analyse_insertion ? &*bone_tree : nullptr;
+    analysing.emplace([&, tree, resolution = result.resolution] {
+      const SurfaceInputs in{inner.region, inner.rim,       built->shell.outer.positions, bone_region, curve.polyline,
+                             tree,         result.insertion};
+      analyses = analyse_surfaces(in, options, resolution);
+    });
+  };
   auto check = [&](const TriangleMesh& mesh) {
     const auto t_check = Clock::now();
     result.solid = check_solid(mesh);
@@ -328,12 +371,17 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   };
   // One contouring's shell (and its contoured alternative) with the parts: true when it passed.
   auto accept = [&](bool tetrahedra) {
+    analysing.reset();
     result.body_inner_faces = inner.region.face_count();
     built = template_detail::build_shell(inner, options, tetrahedra, result);
     for (int contoured = 0; contoured < (built->contoured ? 2 : 1); ++contoured) {
-      if (contoured) built->shell = std::move(*built->contoured);
+      if (contoured) {
+        analysing.reset();
+        built->shell = std::move(*built->contoured);
+      }
       const TriangleMesh& shell = built->shell.mesh;
       if (!parts) {
+        analyse();
         if (!options.check || check(shell)) return true;
         continue;
       }
@@ -343,6 +391,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
                             guide_options);
         result.times.boolean += guide->seconds;
         result.times.validation += guide->blade_path_seconds;
+        analyse();
         if (!options.check || check(guide->mesh)) return true;
         failure.emplace("the guide with its tubes failed its check: " + result.solid.summary());
       } catch (const GeometryError& e) {
@@ -366,6 +415,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   };
   std::optional<std::string> failure = design_shell();
   if (failure && unskirted) { // the skirt's doing: the guide ends at the silhouette instead
+    analysing.reset();
     inner = std::move(*unskirted);
     unskirted.reset(); // a failure now is the guide's own: thrown as it is
     InsertionReport& ins = result.insertion;
@@ -397,18 +447,20 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     result.body = result.shell;
     result.from_tube.assign(result.shell.face_count(), 0);
   }
+  // Validation counts the wall time from the check's start to here: the check's, and what the fit and
+  // the stability took beyond it.
+  const auto t_join = Clock::now();
+  if (analysing) analysing->join(); // what the surfaces' analyses threw is thrown here
+  result.times.validation += seconds_since(t_join);
+  if (analyses.fit) result.fit = *analyses.fit;
+  if (analyses.stability) result.stability = std::move(*analyses.stability);
+  result.times.stability = analyses.stability_seconds;
   result.inner = std::move(inner.region);
   result.outer = std::move(built->shell.outer);
-  // The analyses of the finished guide read it and the bone only: the fit runs on a thread of its own
-  // beside the removal check and the stability (each also shares its loops over the threads), and
-  // each writes its own part of the result, so the result is the same however they interleave.
-  const auto t_analyses = Clock::now();
-  std::optional<detail::Background> fit;
-  if (options.check && options.measure_fit)
-    fit.emplace([&] { measure_fit(result, bone_region, inner.rim, curve.polyline); });
-  if (options.analyse_insertion && options.check) analyse_removal(result, options, *bone_tree, sweep);
-  if (fit) fit->join();
-  result.times.validation += seconds_since(t_analyses);
+  if (options.analyse_insertion && options.check) {
+    analyse_removal(result, options, *bone_tree, sweep);
+    result.times.validation += result.times.removal;
+  }
   return result;
 }
 
