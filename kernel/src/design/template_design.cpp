@@ -183,44 +183,32 @@ double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
   return (p - (a + t * ab)).norm();
 }
 
-// How the guide comes off the bone along the insertion direction, and its contact area.
-void analyse_removal(TemplateResult& result, const TemplateOptions& options, const AabbTree& bone_tree,
-                     std::optional<SweepTest>& sweep) {
-  const auto t0 = Clock::now();
-  InsertionReport& ins = result.insertion;
-  if (!sweep) sweep.emplace(bone_tree);
-  const RemovalReport removal = (*sweep)(result.shell, ins.direction, options.removal_distance);
-  ins.removal_checked = true;
-  ins.removable = removal.removable;
-  ins.removal_distance = removal.distance;
-  ins.blocking = removal.blocking;
-  ins.blocked_faces = removal.blocked_faces;
-  ins.inner_area_mm2 = surface_area(result.inner);
-  ins.contact_area_mm2 =
-      contact_area(result.inner, ins.filled, bone_tree, options.clearance + 0.25 * result.resolution);
-  result.times.removal = seconds_since(t0);
-}
-
-// What the inner and outer surfaces tell without the parts: the fit (the inner surface to the bone
-// region it was cut from, the outer surface to the inner, the rim to the curve drawn on the bone) and
-// the stability. They do not read the guide, so they run beside its Boolean step and its check.
-struct SurfaceAnalyses {
+// The analyses of a candidate guide that do not change it: the fit (the inner surface to the bone
+// region it was cut from, the outer surface to the inner, the rim to the curve drawn on the bone), the
+// stability, and how it comes off the bone along the insertion direction with its contact area. They
+// run beside the guide's check, each on a thread of its own.
+struct Analyses {
   std::optional<TemplateFit> fit;
   std::optional<StabilityResult> stability;
-  double stability_seconds = 0.0;
+  std::optional<RemovalReport> removal;
+  double inner_area_mm2 = 0.0, contact_area_mm2 = 0.0;
+  double stability_seconds = 0.0, removal_seconds = 0.0;
 };
 
-struct SurfaceInputs {
-  const TriangleMesh& inner;       // the inner surface (the region at the clearance)
-  const std::vector<Index>& rim;   // its border
+struct AnalysisInputs {
+  const TriangleMesh& guide;       // the candidate guide (or shell)
+  const TriangleMesh& inner;       // its inner surface (the region at the clearance)
+  const std::vector<Index>& rim;   // the inner surface's border
   const std::vector<Vec3>& outer;  // the outer surface's points
   const TriangleMesh& bone_region; // the region as cut from the bone
   const std::vector<Vec3>& curve;  // the curve drawn on the bone
-  const AabbTree* bone_tree;       // with the insertion analysis: for the stability
+  const AabbTree* bone_tree;       // with the insertion analysis: for the stability and the removal
+  const SweepTest* sweep;          // the bone prepared for sweeps, when block-out made it
   const InsertionReport& insertion;
+  double resolution;
 };
 
-TemplateFit measure_fit(const SurfaceInputs& in) {
+TemplateFit measure_fit(const AnalysisInputs& in) {
   TemplateFit fit;
   fit.inner_to_bone = distances_to_surface(in.inner.positions, in.bone_region);
   fit.outer_to_inner = distances_to_surface(in.outer, in.inner);
@@ -244,21 +232,33 @@ TemplateFit measure_fit(const SurfaceInputs& in) {
   return fit;
 }
 
-// The fit on a thread of its own beside the stability.
-SurfaceAnalyses analyse_surfaces(const SurfaceInputs& in, const TemplateOptions& options, double resolution) {
-  SurfaceAnalyses out;
-  std::optional<detail::Background> fit;
+Analyses analyse(const AnalysisInputs& in, const TemplateOptions& options) {
+  Analyses out;
+  std::optional<detail::Background> fit, removal;
   if (options.measure_fit) fit.emplace([&] { out.fit = measure_fit(in); });
-  if (in.bone_tree) {
-    const auto t0 = Clock::now();
-    const InsertionReport& ins = in.insertion;
-    // Contacts of the inner surface (block-out fills left out: they bridge what the guide cannot reach).
-    const AabbTree covered(ins.region.empty() ? in.inner : ins.region);
-    out.stability = guide_stability(in.inner, *in.bone_tree, ins.direction, options.clearance + 0.25 * resolution,
-                                    in.outer, in.curve, covered, 0.05, ins.filled);
-    out.stability_seconds = seconds_since(t0);
+  if (!in.bone_tree) {
+    if (fit) fit->join();
+    return out;
   }
+  const InsertionReport& ins = in.insertion;
+  const double reach = options.clearance + 0.25 * in.resolution;
+  removal.emplace([&] {
+    const auto t0 = Clock::now();
+    std::optional<SweepTest> own;
+    const SweepTest& sweep = in.sweep ? *in.sweep : own.emplace(*in.bone_tree);
+    out.removal = sweep(in.guide, ins.direction, options.removal_distance);
+    out.inner_area_mm2 = surface_area(in.inner);
+    out.contact_area_mm2 = contact_area(in.inner, ins.filled, *in.bone_tree, reach);
+    out.removal_seconds = seconds_since(t0);
+  });
+  const auto t0 = Clock::now();
+  // Contacts of the inner surface (block-out fills left out: they bridge what the guide cannot reach).
+  const AabbTree covered(ins.region.empty() ? in.inner : ins.region);
+  out.stability =
+      guide_stability(in.inner, *in.bone_tree, ins.direction, reach, in.outer, in.curve, covered, 0.05, ins.filled);
+  out.stability_seconds = seconds_since(t0);
   if (fit) fit->join();
+  removal->join();
   return out;
 }
 
@@ -349,19 +349,24 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   guide_options.check_blade_paths = options.check;
   std::optional<template_detail::ShellBuild> built;
   std::optional<GuideResult> guide;
-  // The fit and the stability of the candidate shell, beside the check of the guide (or the shell)
-  // (declared after what they read, so that they are joined before it goes).
-  SurfaceAnalyses analyses;
+  // The analyses of the candidate guide (or shell), beside its check (declared after what they read,
+  // so that they are joined before it goes).
+  Analyses analyses;
   std::optional<detail::Background> analysing;
-  auto analyse = [&] {
+  auto analyse_beside = [&](const TriangleMesh& candidate) {
     analysing.reset();
     if (!options.check) return;
-    const AabbTree* tree = options.analyse_insertion ? &*bone_tree : nullptr;
-    analysing.emplace([&, tree, resolution = result.resolution] {
-      const SurfaceInputs in{inner.region, inner.rim,       built->shell.outer.positions, bone_region, curve.polyline,
-                             tree,         result.insertion};
-      analyses = analyse_surfaces(in, options, resolution);
-    });
+    const AnalysisInputs in{candidate,
+                            inner.region,
+                            inner.rim,
+                            built->shell.outer.positions,
+                            bone_region,
+                            curve.polyline,
+                            options.analyse_insertion ? &*bone_tree : nullptr,
+                            sweep ? &*sweep : nullptr,
+                            result.insertion,
+                            result.resolution};
+    analysing.emplace([&, in] { analyses = analyse(in, options); });
   };
   auto check = [&](const TriangleMesh& mesh) {
     const auto t_check = Clock::now();
@@ -381,7 +386,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
       }
       const TriangleMesh& shell = built->shell.mesh;
       if (!parts) {
-        analyse();
+        analyse_beside(shell);
         if (!options.check || check(shell)) return true;
         continue;
       }
@@ -391,13 +396,14 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
                             guide_options);
         result.times.boolean += guide->seconds;
         result.times.validation += guide->blade_path_seconds;
-        analyse();
+        analyse_beside(guide->mesh);
         if (!options.check || check(guide->mesh)) return true;
         failure.emplace("the guide with its tubes failed its check: " + result.solid.summary());
       } catch (const GeometryError& e) {
         failure = e;
       }
       if (!options.check || check(shell)) throw *failure; // the parts' doing, not the shell's
+      analysing.reset();                                  // it reads the guide
       guide.reset();
     }
     return false;
@@ -426,6 +432,26 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     failure = design_shell();
   }
   if (failure) throw GeometryError(*failure);
+  // The analyses read the accepted guide, its shell and surfaces: joined before they move. Validation
+  // counts the wall time from the check's start to here: the check's, and what the analyses took
+  // beyond it.
+  const auto t_join = Clock::now();
+  if (analysing) analysing->join(); // what the analyses threw is thrown here
+  result.times.validation += seconds_since(t_join);
+  if (analyses.fit) result.fit = *analyses.fit;
+  if (analyses.stability) result.stability = std::move(*analyses.stability);
+  result.times.stability = analyses.stability_seconds;
+  if (const std::optional<RemovalReport>& removal = analyses.removal) {
+    InsertionReport& ins = result.insertion;
+    ins.removal_checked = true;
+    ins.removable = removal->removable;
+    ins.removal_distance = removal->distance;
+    ins.blocking = removal->blocking;
+    ins.blocked_faces = removal->blocked_faces;
+    ins.inner_area_mm2 = analyses.inner_area_mm2;
+    ins.contact_area_mm2 = analyses.contact_area_mm2;
+    result.times.removal = analyses.removal_seconds;
+  }
   result.shell = std::move(built->shell.mesh);
   result.times.total = result.times.inner_segmentation + result.times.offset + result.times.outer_points +
                        result.times.outer_segmentation + result.times.connection;
@@ -447,20 +473,8 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     result.body = result.shell;
     result.from_tube.assign(result.shell.face_count(), 0);
   }
-  // Validation counts the wall time from the check's start to here: the check's, and what the fit and
-  // the stability took beyond it.
-  const auto t_join = Clock::now();
-  if (analysing) analysing->join(); // what the surfaces' analyses threw is thrown here
-  result.times.validation += seconds_since(t_join);
-  if (analyses.fit) result.fit = *analyses.fit;
-  if (analyses.stability) result.stability = std::move(*analyses.stability);
-  result.times.stability = analyses.stability_seconds;
   result.inner = std::move(inner.region);
   result.outer = std::move(built->shell.outer);
-  if (options.analyse_insertion && options.check) {
-    analyse_removal(result, options, *bone_tree, sweep);
-    result.times.validation += result.times.removal;
-  }
   return result;
 }
 
