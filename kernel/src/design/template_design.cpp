@@ -232,7 +232,7 @@ TemplateFit measure_fit(const AnalysisInputs& in) {
   return fit;
 }
 
-Analyses analyse(const AnalysisInputs& in, const TemplateOptions& options) {
+Analyses analyse_candidate(const AnalysisInputs& in, const TemplateOptions& options) {
   Analyses out;
   std::optional<detail::Background> fit, removal;
   if (options.measure_fit) fit.emplace([&] { out.fit = measure_fit(in); });
@@ -366,7 +366,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
                             sweep ? &*sweep : nullptr,
                             result.insertion,
                             result.resolution};
-    analysing.emplace([&, in] { analyses = analyse(in, options); });
+    analysing.emplace([&, in] { analyses = analyse_candidate(in, options); });
   };
   auto check = [&](const TriangleMesh& mesh) {
     const auto t_check = Clock::now();
