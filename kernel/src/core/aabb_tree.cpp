@@ -136,7 +136,8 @@ AabbTree::AreaNormal AabbTree::area_normal_near(const Vec3& p, double radius) co
   return out;
 }
 
-std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_distance) const {
+template <class Beyond>
+std::optional<ClosestPoint> AabbTree::nearest(const Vec3& p, double max_distance, const Beyond& beyond) const {
   if (nodes_.empty()) return std::nullopt;
   double best = max_distance * max_distance;
   ClosestPoint result;
@@ -150,6 +151,7 @@ std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_di
     if (box_distance_squared(n.box, p) > best) continue;
     if (n.left == kInvalidIndex) {
       for (Index i = n.begin; i < n.end; ++i) {
+        if (beyond(faces_[i], best)) continue;
         const Triangle& t = mesh_.triangles[faces_[i]];
         const Vec3 q =
             closest_point_on_triangle(p, mesh_.positions[t[0]], mesh_.positions[t[1]], mesh_.positions[t[2]]);
@@ -176,6 +178,15 @@ std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_di
   if (!found) return std::nullopt;
   result.distance = std::sqrt(best);
   return result;
+}
+
+std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_distance) const {
+  return nearest(p, max_distance, [](Index, double) { return false; });
+}
+
+std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_distance,
+                                                    const std::function<bool(Index, double)>& beyond) const {
+  return nearest(p, max_distance, beyond);
 }
 
 template <class Leaf> bool AabbTree::along(const Vec3& origin, const Vec3& direction, double t_min, const double& t_max,

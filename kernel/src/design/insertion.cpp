@@ -1,5 +1,6 @@
 #include "st/design/insertion.h"
 
+#include "detail/cell_set.h"
 #include "detail/parallel.h"
 #include "st/boolean/triangle_intersection.h"
 #include "st/core/errors.h"
@@ -10,7 +11,6 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
-#include <unordered_set>
 
 namespace st {
 
@@ -150,19 +150,9 @@ Undercut undercut(const AabbTree& bone, const TriangleMesh& region, const Vec3& 
     // The faces between samples: one turned away from the guide is hidden; one within two spacings of
     // a hidden sample is tested at its centre (so a hidden zone's border is found face by face); the
     // others lie among visible samples and count as seen.
-    const double cell = 2.0 * spacing;
-    auto key = [cell](const Vec3& p, int dx, int dy, int dz) {
-      const auto c = [&](double x, int o) {
-        return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x / cell)) + o) & 0x1fffff;
-      };
-      return c(p.x(), dx) << 42 | c(p.y(), dy) << 21 | c(p.z(), dz);
-    };
-    std::unordered_set<std::uint64_t> near_hidden;
+    detail::CellSet near_hidden(2.0 * spacing);
     for (std::size_t i = 0; i < samples.size(); ++i)
-      if (flags[i])
-        for (int dx = -1; dx <= 1; ++dx)
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dz = -1; dz <= 1; ++dz) near_hidden.insert(key(samples[i].point, dx, dy, dz));
+      if (flags[i]) near_hidden.mark_around(samples[i].point);
     detail::parallel_for(nf, 1024, [&](std::size_t, std::size_t begin, std::size_t end) {
       for (std::size_t f = begin; f < end; ++f) {
         if (total[f] > 0.0) continue;
@@ -170,7 +160,7 @@ Undercut undercut(const AabbTree& bone, const TriangleMesh& region, const Vec3& 
         const Vec3 &a = region.positions[t[0]], &b = region.positions[t[1]], &c = region.positions[t[2]];
         const Vec3 centre = (a + b + c) / 3.0;
         if (orient3d(a, b, c, a + u.direction) < 0 ||
-            (near_hidden.count(key(centre, 0, 0, 0)) && is_hidden(sight, centre, a, b, c, u.direction)))
+            (near_hidden.contains(centre) && is_hidden(sight, centre, a, b, c, u.direction)))
           fraction[f] = 1.0;
       }
     });

@@ -197,6 +197,7 @@ struct Analyses {
 
 struct AnalysisInputs {
   const TriangleMesh& guide;       // the candidate guide (or shell)
+  const AabbTree& guide_tree;      // over all of its faces (its check reads it too)
   const TriangleMesh& inner;       // its inner surface (the region at the clearance)
   const std::vector<Index>& rim;   // the inner surface's border
   const std::vector<Vec3>& outer;  // the outer surface's points
@@ -246,7 +247,7 @@ Analyses analyse_candidate(const AnalysisInputs& in, const TemplateOptions& opti
     const auto t0 = Clock::now();
     std::optional<SweepTest> own;
     const SweepTest& sweep = in.sweep ? *in.sweep : own.emplace(*in.bone_tree);
-    out.removal = sweep(in.guide, ins.direction, options.removal_distance);
+    out.removal = sweep(in.guide, ins.direction, options.removal_distance, SweepStart::shrunk, &in.guide_tree);
     out.inner_area_mm2 = surface_area(in.inner);
     out.contact_area_mm2 = contact_area(in.inner, ins.filled, *in.bone_tree, reach);
     out.removal_seconds = seconds_since(t0);
@@ -352,11 +353,14 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   // The analyses of the candidate guide (or shell), beside its check (declared after what they read,
   // so that they are joined before it goes).
   Analyses analyses;
+  std::optional<AabbTree> candidate_tree; // read by the analyses and the check
   std::optional<detail::Background> analysing;
   auto analyse_beside = [&](const TriangleMesh& candidate) {
     analysing.reset();
     if (!options.check) return;
+    candidate_tree.emplace(candidate);
     const AnalysisInputs in{candidate,
+                            *candidate_tree,
                             inner.region,
                             inner.rim,
                             built->shell.outer.positions,
@@ -368,9 +372,11 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
                             result.resolution};
     analysing.emplace([&, in] { analyses = analyse_candidate(in, options); });
   };
-  auto check = [&](const TriangleMesh& mesh) {
+  auto check = [&](const TriangleMesh& mesh, const AabbTree* tree = nullptr) {
     const auto t_check = Clock::now();
-    result.solid = check_solid(mesh);
+    SolidOptions solid_options;
+    solid_options.tree = tree;
+    result.solid = check_solid(mesh, solid_options);
     result.times.validation += seconds_since(t_check);
     return result.solid.valid();
   };
@@ -387,7 +393,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
       const TriangleMesh& shell = built->shell.mesh;
       if (!parts) {
         analyse_beside(shell);
-        if (!options.check || check(shell)) return true;
+        if (!options.check || check(shell, &*candidate_tree)) return true;
         continue;
       }
       std::optional<GeometryError> failure;
@@ -397,7 +403,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
         result.times.boolean += guide->seconds;
         result.times.validation += guide->blade_path_seconds;
         analyse_beside(guide->mesh);
-        if (!options.check || check(guide->mesh)) return true;
+        if (!options.check || check(guide->mesh, &*candidate_tree)) return true;
         failure.emplace("the guide with its tubes failed its check: " + result.solid.summary());
       } catch (const GeometryError& e) {
         failure = e;

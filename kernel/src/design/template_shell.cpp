@@ -1,6 +1,7 @@
 // Steps 2-5 of the template design: offset, outer points, outer cut, simplification, wall.
 
 #include "design/template_shell.h"
+#include "detail/cell_set.h"
 #include "detail/timing.h"
 
 #include "st/core/float32.h"
@@ -16,10 +17,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdint>
 #include <deque>
 #include <unordered_map>
-#include <unordered_set>
 
 namespace st::template_detail {
 namespace {
@@ -54,23 +53,12 @@ Index innermost_vertex(const TriangleMesh& mesh, const std::vector<Index>& rim) 
 // Faces of `mesh` with a corner within about `reach` of a rim vertex or of the centre vertex.
 std::vector<Index> faces_near(const TriangleMesh& mesh, const TriangleMesh& region, const std::vector<Index>& rim,
                               Index centre, double reach) {
-  auto cell = [reach](const Vec3& p) {
-    const Eigen::Array3d c = (p / reach).array().floor();
-    return (static_cast<std::uint64_t>(static_cast<std::int64_t>(c[0]) & 0x1fffff) << 42) |
-           (static_cast<std::uint64_t>(static_cast<std::int64_t>(c[1]) & 0x1fffff) << 21) |
-           (static_cast<std::uint64_t>(static_cast<std::int64_t>(c[2]) & 0x1fffff));
-  };
-  std::unordered_set<std::uint64_t> cells;
-  auto mark = [&](const Vec3& p) {
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) cells.insert(cell(p + reach * Vec3(dx, dy, dz)));
-  };
-  for (Index v : rim) mark(region.positions[v]);
-  mark(region.positions[centre]);
+  detail::CellSet cells(reach);
+  for (Index v : rim) cells.mark_around(region.positions[v]);
+  cells.mark_around(region.positions[centre]);
   std::vector<Index> faces;
   for (Index f = 0; f < mesh.face_count(); ++f)
-    if (cells.count(cell(mesh.positions[mesh.triangles[f][0]]))) faces.push_back(f);
+    if (cells.contains(mesh.positions[mesh.triangles[f][0]])) faces.push_back(f);
   return faces;
 }
 

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <mutex>
+#include <optional>
 
 namespace st {
 
@@ -98,8 +99,8 @@ RemovalReport check_removal(const AabbTree& bone, const TriangleMesh& guide, con
   return SweepTest(bone)(guide, direction, distance, start);
 }
 
-RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direction, double distance,
-                                    SweepStart start) const {
+RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direction, double distance, SweepStart start,
+                                    const AabbTree* guide_tree_given) const {
   const double norm = direction.norm();
   if (!std::isfinite(norm) || !(norm > 0.0))
     throw InvalidInput("removal check: the direction must be a non-zero vector");
@@ -161,7 +162,8 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
     }
   });
   // 2. Bone vertices near the guide along +d against the guide.
-  const AabbTree guide_tree(guide);
+  std::optional<AabbTree> own_tree;
+  const AabbTree& guide_tree = guide_tree_given ? *guide_tree_given : own_tree.emplace(guide);
   BoundingBox reach = gbox;
   reach.extend(gbox.min - L * d);
   reach.extend(gbox.max - L * d);

@@ -6,6 +6,9 @@
 #include "st/boolean/triangle_intersection.h"
 
 #include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <unordered_map>
@@ -126,7 +129,8 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
   if (options.check_self_intersections && r.degenerate_triangles == 0) {
     // The candidate pairs (overlapping boxes) from the tree, then the exact tests on all threads; what
     // is found is gathered per chunk, in pair order, so the report does not depend on the threads.
-    const AabbTree tree(mesh);
+    std::optional<AabbTree> own_tree;
+    const AabbTree& tree = options.tree ? *options.tree : own_tree.emplace(mesh);
     const std::vector<std::pair<Index, Index>> pairs = tree.overlapping_pairs();
     constexpr std::size_t kGrain = 4096;
     std::vector<std::vector<Index>> found((pairs.size() + kGrain - 1) / kGrain);
@@ -150,10 +154,45 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
   return r;
 }
 
+namespace {
+
+// Each face's plane and the disc about its centroid that holds it: a point at height h over the plane
+// and at l from the centroid along it lies at least sqrt(h^2 + max(0, l - r)^2) from the face. Two
+// dozen flops against a closest-point test's hundred: a point T over a finely tessellated surface has
+// a few hundred faces whose boxes (fat where the faces are tilted) come within T, and the disc rules
+// out all but those right under it.
+struct FaceDisc {
+  Vec3 centre;
+  Vec3 normal; // unit, or zero for a degenerate face (the bound is then the ball's)
+  double radius;
+};
+
+std::vector<FaceDisc> face_discs(const TriangleMesh& surface) {
+  std::vector<FaceDisc> discs(surface.face_count());
+  for (Index f = 0; f < surface.face_count(); ++f) {
+    const Triangle& t = surface.triangles[f];
+    const Vec3 &a = surface.positions[t[0]], &b = surface.positions[t[1]], &c = surface.positions[t[2]];
+    FaceDisc& d = discs[f];
+    d.centre = (a + b + c) / 3.0;
+    const Vec3 n = (b - a).cross(c - a);
+    const double length = n.norm();
+    d.normal = length > 0.0 ? Vec3(n / length) : Vec3::Zero();
+    // Grown a little so that rounding never puts a corner outside it.
+    d.radius = std::sqrt(std::max(
+                   {(a - d.centre).squaredNorm(), (b - d.centre).squaredNorm(), (c - d.centre).squaredNorm()})) *
+                   (1.0 + 1e-9) +
+               1e-12;
+  }
+  return discs;
+}
+
+} // namespace
+
 DistanceStats distances_to_surface(const std::vector<Vec3>& points, const TriangleMesh& surface) {
   DistanceStats s;
   if (points.empty() || surface.empty()) return s;
   const AabbTree tree(surface);
+  const std::vector<FaceDisc> discs = face_discs(surface);
   // Per chunk of points on all threads, summed in chunk order (the same result on any machine).
   constexpr std::size_t kGrain = 1024;
   std::vector<DistanceStats> chunks((points.size() + kGrain - 1) / kGrain);
@@ -165,9 +204,18 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
     // is the same.
     std::optional<Vec3> last;
     for (std::size_t i = begin; i < end; ++i) {
+      const Vec3& p = points[i];
+      // Passed over: the faces whose disc bound (less a margin for its rounding) exceeds the best.
+      const std::function<bool(Index, double)> beyond = [&](Index f, double best) {
+        const FaceDisc& d = discs[f];
+        const Vec3 v = p - d.centre;
+        const double h = d.normal.dot(v);
+        const double lateral = std::max(0.0, std::sqrt(std::max(0.0, v.squaredNorm() - h * h)) - d.radius);
+        return (h * h + lateral * lateral) * (1.0 - 1e-9) > best;
+      };
       std::optional<ClosestPoint> near;
-      if (last) near = tree.closest_point(points[i], (points[i] - *last).norm() * (1.0 + 1e-9));
-      if (!near) near = tree.closest_point(points[i]);
+      if (last) near = tree.closest_point(p, (p - *last).norm() * (1.0 + 1e-9), beyond);
+      if (!near) near = tree.closest_point(p, std::numeric_limits<double>::infinity(), beyond);
       last = near->point;
       const double d = near->distance;
       c.min = std::min(c.min, d);

@@ -39,6 +39,12 @@ public:
   [[nodiscard]] std::optional<ClosestPoint>
   closest_point(const Vec3& p, double max_distance = std::numeric_limits<double>::infinity()) const;
 
+  /// The same, passing over each triangle for which beyond(face, best) is true, `best` being the
+  /// squared distance found so far: a caller's cheaper bound from below on the triangle's distance
+  /// says it cannot be nearer. The result is the same when the bound holds.
+  [[nodiscard]] std::optional<ClosestPoint> closest_point(const Vec3& p, double max_distance,
+                                                          const std::function<bool(Index, double)>& beyond) const;
+
   /// First intersection of the ray origin + t*direction, t in [t_min, t_max].
   [[nodiscard]] std::optional<RayHit> first_hit(const Vec3& origin, const Vec3& direction, double t_min = 0.0,
                                                 double t_max = std::numeric_limits<double>::infinity()) const;
@@ -91,6 +97,9 @@ private:
   /// Fills the subtree of items [begin, end) from node `id` on, its two halves on two threads for
   /// `spawn` more levels; returns its node count.
   Index build(std::vector<Item>& items, Index begin, Index end, Index id, int spawn);
+  /// closest_point's search, passing over the triangles `beyond` rules out. Defined in aabb_tree.cpp.
+  template <class Beyond>
+  std::optional<ClosestPoint> nearest(const Vec3& p, double max_distance, const Beyond& beyond) const;
   /// Calls leaf(face) for the triangles in the nodes whose boxes, grown by `pad`, the ray meets for t
   /// in [t_min, t_max] (t_max read at every node: a leaf may shorten it), until leaf returns true;
   /// returns whether it did. Defined in aabb_tree.cpp, used there only.

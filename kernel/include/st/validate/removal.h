@@ -62,9 +62,10 @@ enum class SweepStart { shrunk, raised };
 class SweepTest {
 public:
   explicit SweepTest(const AabbTree& bone); ///< keeps a reference to the tree
-  /// check_removal(bone, mesh, direction, distance, start) with the bone prepared.
+  /// check_removal(bone, mesh, direction, distance, start) with the bone prepared; `mesh_tree`, a
+  /// tree over all of mesh's faces when the caller has one (built here when null).
   RemovalReport operator()(const TriangleMesh& mesh, const Vec3& direction, double distance,
-                           SweepStart start = SweepStart::shrunk) const;
+                           SweepStart start = SweepStart::shrunk, const AabbTree* mesh_tree = nullptr) const;
 
 private:
   const AabbTree& bone_;

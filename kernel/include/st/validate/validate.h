@@ -34,9 +34,12 @@ struct SolidReport {
   [[nodiscard]] std::string summary() const;
 };
 
+class AabbTree;
+
 struct SolidOptions {
   bool check_self_intersections = true;
   std::size_t max_reported = 100; ///< stop counting self-intersections here
+  const AabbTree* tree = nullptr; ///< a tree over all of the mesh's faces when the caller has one
 };
 
 /// Topology, orientation and self-intersection check of a triangle mesh as a solid.
