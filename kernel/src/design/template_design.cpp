@@ -186,7 +186,8 @@ double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
 // The analyses of a candidate guide that do not change it: the fit (the inner surface to the bone
 // region it was cut from, the outer surface to the inner, the rim to the curve drawn on the bone), the
 // stability, and how it comes off the bone along the insertion direction with its contact area. They
-// run beside the guide's check, each on a thread of its own.
+// run beside the guide's check: the stability on the thread analyse_candidate runs on, the fit and the
+// removal check each on one of its own.
 struct Analyses {
   std::optional<TemplateFit> fit;
   std::optional<StabilityResult> stability;
