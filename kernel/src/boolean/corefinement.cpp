@@ -509,6 +509,7 @@ private:
       if (debug_) std::fprintf(stderr, "  collapsed %zu edges under %.3g\n", result.collapsed_edges, short_edge_);
     }
     check_fresh(out, fresh, unchanged);
+    check_closed_at_curve(out, fresh, unchanged);
     result.intersecting_pairs = seam_.size();
     result.curve_segments = seam_.size();
     result.split_faces = split_[0].size() + split_[1].size();

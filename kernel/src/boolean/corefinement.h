@@ -103,6 +103,12 @@ std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<Orient
 /// edge (throws Degenerate when every one does). Used only for pieces no intersection curve reaches.
 bool inside_by_rays(const Vec3& p, const TriangleMesh& mesh);
 
+/// Throws Degenerate unless every edge of the `fresh` and `unchanged` faces of the assembled result
+/// meets exactly one face across it, the other way round (a piece, or a face far from the other
+/// operand beside the pieces): verdicts that disagree across a curve leave a hole or a doubled sheet.
+void check_closed_at_curve(const TriangleMesh& out, const std::vector<Index>& fresh,
+                           const std::vector<Index>& unchanged);
+
 /// Where a vertex of an assembled result comes from: an operand's vertex, or a point of the
 /// intersection curve where an edge of the first (second) operand crosses a face of the other.
 enum class VertexOrigin : std::uint8_t { first, second, curve_on_first_edge, curve_on_second_edge };

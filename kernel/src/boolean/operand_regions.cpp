@@ -1,24 +1,25 @@
-// The regions of the Boolean's operands: oriented boxes of components, the faces near them, and the
-// ray-parity inside test.
+// The regions of the Boolean's operands: oriented boxes of components, the faces near them, the
+// ray-parity inside test, and the check that the pieces kept by their verdicts close up.
 
 #include "boolean/corefinement.h"
 
+#include "detail/format.h"
 #include "st/core/ray_triangle.h"
 #include "st/core/union_find.h"
 
 #include <Eigen/Eigenvalues>
-
-#include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <numeric>
 #include <optional>
 #include <unordered_map>
 #include <unordered_set>
+#include <vector>
 
 namespace st::boolean_detail {
 
@@ -122,6 +123,34 @@ bool inside_by_rays(const Vec3& p, const TriangleMesh& mesh) {
   }
   if (votes == 0) throw Degenerate{"every ray grazes an edge"};
   return 2 * votes_inside > votes;
+}
+
+void check_closed_at_curve(const TriangleMesh& out, const std::vector<Index>& fresh,
+                           const std::vector<Index>& unchanged) {
+  std::vector<std::uint8_t> at_piece(out.vertex_count(), 0);
+  for (const std::vector<Index>* list : {&fresh, &unchanged})
+    for (Index f : *list)
+      for (Index v : out.triangles[f]) at_piece[v] = 1;
+  auto key = [](Index u, Index v) { return std::uint64_t{u} << 32 | v; };
+  std::vector<std::uint64_t> edges; // directed edges between two piece corners, of every face
+  for (const Triangle& t : out.triangles)
+    for (int k = 0; k < 3; ++k)
+      if (at_piece[t[k]] && at_piece[t[(k + 1) % 3]]) edges.push_back(key(t[k], t[(k + 1) % 3]));
+  std::sort(edges.begin(), edges.end());
+  auto count = [&](std::uint64_t e) {
+    const auto [lo, hi] = std::equal_range(edges.begin(), edges.end(), e);
+    return hi - lo;
+  };
+  for (const std::vector<Index>* list : {&fresh, &unchanged})
+    for (Index f : *list) {
+      const Triangle& t = out.triangles[f];
+      for (int k = 0; k < 3; ++k) {
+        const Index u = t[k], v = t[(k + 1) % 3];
+        if (count(key(u, v)) != 1 || count(key(v, u)) != 1)
+          throw Degenerate{"the result open or doubled at the intersection curve, near " +
+                           detail::where(out.positions[u])};
+      }
+    }
 }
 
 } // namespace st::boolean_detail

@@ -6,10 +6,10 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <numeric>
 #include <optional>
-#include <system_error>
-#include <thread>
 #include <utility>
 
 namespace st {
@@ -34,6 +34,39 @@ bool ray_hits_box(const BoundingBox& b, const Vec3& o, const Vec3& inv_dir, doub
   return true;
 }
 
+// The low 21 bits of v, spread to every third bit.
+std::uint64_t spread_bits(std::uint64_t v) {
+  v &= 0x1fffffULL;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+
+struct Keyed {
+  std::uint64_t code;
+  Index item;
+};
+
+// Sorts by code, keeping the order of equal codes: least significant digit first, 11 bits a pass.
+void radix_sort(std::vector<Keyed>& keyed) {
+  std::vector<Keyed> other(keyed.size());
+  constexpr int kBits = 11;
+  constexpr std::size_t kBuckets = std::size_t{1} << kBits;
+  std::uint64_t spread = 0;
+  for (const Keyed& k : keyed) spread |= k.code ^ keyed.front().code;
+  for (int shift = 0; shift < 64; shift += kBits) {
+    if (((spread >> shift) & (kBuckets - 1)) == 0) continue; // every code has the same digit here
+    std::array<std::size_t, kBuckets + 1> start{};
+    for (const Keyed& k : keyed) ++start[((k.code >> shift) & (kBuckets - 1)) + 1];
+    for (std::size_t b = 0; b < kBuckets; ++b) start[b + 1] += start[b];
+    for (const Keyed& k : keyed) other[start[(k.code >> shift) & (kBuckets - 1)]++] = k;
+    keyed.swap(other);
+  }
+}
+
 } // namespace
 
 AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces) : mesh_(mesh), faces_(std::move(faces)) {
@@ -42,83 +75,75 @@ AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces) : mesh_(m
     std::iota(faces_.begin(), faces_.end(), Index{0});
   }
   if (faces_.empty()) return;
-  std::vector<Item> items(faces_.size());
-  detail::parallel_for(items.size(), 8192, [&](std::size_t, std::size_t begin, std::size_t end) {
+  const std::size_t n = faces_.size();
+  std::vector<BoundingBox> boxes(n);
+  detail::parallel_for(n, 8192, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) boxes[i] = triangle_box(mesh, faces_[i]);
+  });
+  // Morton codes of the boxes' centres on a grid of 2^21 cells a side over the centres' bounding cube.
+  BoundingBox centres;
+  for (const BoundingBox& b : boxes)
+    if (b.center().allFinite()) centres.extend(b.center());
+  const double extent = centres.valid() ? centres.size().maxCoeff() : 0.0;
+  constexpr double kCells = double((1 << 21) - 1);
+  const double scale = extent > 0.0 ? kCells / extent : 0.0;
+  std::vector<Keyed> keyed(n);
+  detail::parallel_for(n, 8192, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      items[i].box = triangle_box(mesh, faces_[i]);
-      items[i].face = faces_[i];
+      const Vec3 c = boxes[i].center();
+      std::uint64_t code = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double q = (c[k] - centres.min[k]) * scale;
+        const auto cell = static_cast<std::uint64_t>(q >= 0.0 && q <= kCells ? q : 0.0); // NaN and overflow: 0
+        code |= spread_bits(cell) << (2 - k);
+      }
+      keyed[i] = {code, static_cast<Index>(i)};
     }
   });
-  const auto n = static_cast<Index>(items.size());
-  nodes_.resize(node_count(n));
-  int spawn = 0; // levels whose two halves are built on two threads
-  while ((2u << spawn) <= detail::thread_count()) ++spawn;
-  build(items, 0, n, 0, spawn);
-  face_boxes_.resize(items.size());
-  for (std::size_t i = 0; i < items.size(); ++i) {
-    faces_[i] = items[i].face;
-    face_boxes_[i] = items[i].box;
+  radix_sort(keyed);
+  std::vector<Index> sorted_faces(n);
+  face_boxes_.resize(n);
+  std::vector<std::uint64_t> codes(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    sorted_faces[i] = faces_[keyed[i].item];
+    face_boxes_[i] = boxes[keyed[i].item];
+    codes[i] = keyed[i].code;
   }
+  faces_ = std::move(sorted_faces);
+  nodes_.reserve(2 * n);
+  build(codes, 0, static_cast<Index>(n));
 }
 
-Index AabbTree::node_count(Index n) {
-  // The ranges at one depth hold s or s + 1 items (a and b of them): the halves of s are s/2 and
-  // s - s/2, those of s + 1 are (s+1)/2 and s + 1 - (s+1)/2, all s/2 or s/2 + 1.
-  Index total = 0;
-  Index s = n;
-  Index a = 1, b = 0;
-  while (a + b > 0) {
-    total += a + b;
-    const Index split_a = s > kLeafSize ? a : 0;
-    const Index split_b = s + 1 > kLeafSize ? b : 0;
-    const bool even = s % 2 == 0;
-    a = even ? 2 * split_a + split_b : split_a;
-    b = even ? split_b : split_a + 2 * split_b;
-    s /= 2;
-  }
-  return total;
-}
-
-Index AabbTree::build(std::vector<Item>& items, Index begin, Index end, Index id, int spawn) {
-  // Nodes in pre-order: the left child follows its parent, the right child follows the left subtree
-  // (node_count of its range), so the layout is the same whichever thread builds which half.
-  BoundingBox box;
-  for (Index i = begin; i < end; ++i) box.extend(items[i].box);
-  nodes_[id].box = box;
+Index AabbTree::build(const std::vector<std::uint64_t>& codes, Index begin, Index end) {
+  // Nodes in pre-order: the left child follows its parent. A range splits where its codes' highest
+  // differing bit turns from 0 to 1 (a plane of the Morton grid), or in the middle when its codes are
+  // all the same.
+  const auto id = static_cast<Index>(nodes_.size());
+  nodes_.emplace_back();
   if (end - begin <= kLeafSize) {
+    BoundingBox box;
+    for (Index i = begin; i < end; ++i) box.extend(face_boxes_[i]);
+    nodes_[id].box = box;
     nodes_[id].begin = begin;
     nodes_[id].end = end;
-    return 1;
+    return id;
   }
-  int axis = 0;
-  box.size().maxCoeff(&axis);
-  const Index mid = begin + (end - begin) / 2;
-  std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
-                   [axis](const Item& x, const Item& y) { // by centre: (min + max) / 2, halving exact
-                     return x.box.min[axis] + x.box.max[axis] < y.box.min[axis] + y.box.max[axis];
-                   });
-  const Index left = id + 1;
-  Index right = kInvalidIndex;
-  Index count = 0;
-  if (spawn > 0 && end - begin > 16384) {
-    right = left + node_count(mid - begin);
-    count = node_count(end - begin);
-    std::optional<std::thread> other;
-    try {
-      other.emplace([&, right] { build(items, mid, end, right, spawn - 1); });
-    } catch (const std::system_error&) {
-      build(items, mid, end, right, spawn - 1); // no second thread: this one builds both halves
-    }
-    build(items, begin, mid, left, spawn - 1);
-    if (other) other->join();
-  } else {
-    const Index left_count = build(items, begin, mid, left, 0);
-    right = left + left_count;
-    count = 1 + left_count + build(items, mid, end, right, 0);
+  const std::uint64_t differ = codes[begin] ^ codes[end - 1];
+  Index mid = begin + (end - begin) / 2;
+  if (differ != 0) {
+    const std::uint64_t bit = std::uint64_t{1} << (63 - std::countl_zero(differ));
+    mid = static_cast<Index>(std::partition_point(codes.begin() + begin, codes.begin() + end,
+                                                  [bit](std::uint64_t c) { return !(c & bit); }) -
+                             codes.begin());
   }
-  nodes_[id].left = left;
-  nodes_[id].right = right;
-  return count;
+  const Index left = build(codes, begin, mid);
+  const Index right = build(codes, mid, end);
+  Node& node = nodes_[id];
+  node.box = nodes_[left].box;
+  node.box.extend(nodes_[right].box);
+  node.left = left;
+  node.right = right;
+  return id;
 }
 
 AabbTree::AreaNormal AabbTree::area_normal_near(const Vec3& p, double radius) const {

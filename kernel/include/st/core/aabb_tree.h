@@ -1,12 +1,14 @@
 #pragma once
 // Axis-aligned bounding-box tree over (a subset of) the triangles of a mesh, built once and queried
 // many times: closest point, first ray hit, boxes, and overlapping triangle pairs (for collision and
-// self-intersection tests). Median split on the longest axis, leaves of up to 4 triangles.
+// self-intersection tests). A linear BVH: the triangles in the Morton order of their boxes' centres,
+// each node split where its cells divide, leaves of up to 4 triangles.
 
 #include "st/core/closest_point.h"
 #include "st/core/mesh.h"
 
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <utility>
@@ -87,16 +89,9 @@ private:
     Index begin = 0; // leaf: range in faces_
     Index end = 0;
   };
-  struct Item { // 56 bytes: the build moves items about a great deal; the centre is the box's
-    BoundingBox box;
-    Index face;
-  };
   static constexpr Index kLeafSize = 4;
-  /// Nodes of the tree over n >= 1 items.
-  static Index node_count(Index n);
-  /// Fills the subtree of items [begin, end) from node `id` on, its two halves on two threads for
-  /// `spawn` more levels; returns its node count.
-  Index build(std::vector<Item>& items, Index begin, Index end, Index id, int spawn);
+  /// Appends the subtree over faces_[begin, end) (their Morton codes sorted in `codes`); returns its root.
+  Index build(const std::vector<std::uint64_t>& codes, Index begin, Index end);
   /// closest_point's search, passing over the triangles `beyond` rules out. Defined in aabb_tree.cpp.
   template <class Beyond>
   std::optional<ClosestPoint> nearest(const Vec3& p, double max_distance, const Beyond& beyond) const;
