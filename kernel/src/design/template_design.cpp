@@ -185,9 +185,10 @@ double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
 
 // The analyses of a candidate guide that do not change it: the fit (the inner surface to the bone
 // region it was cut from, the outer surface to the inner, the rim to the curve drawn on the bone), the
-// stability, and how it comes off the bone along the insertion direction with its contact area. They
-// run beside the guide's check: the stability on the thread analyse_candidate runs on, the fit and the
-// removal check each on one of its own.
+// stability, and how it comes off the bone along the insertion direction with its contact area. The
+// fit and the stability read only the shell's surfaces: they start as soon as the shell is built and
+// run beside the parts' Boolean (which runs on one thread) and the guide's check. The removal check
+// reads the finished guide: it starts when the guide is built and runs beside its check.
 struct Analyses {
   std::optional<TemplateFit> fit;
   std::optional<StabilityResult> stability;
@@ -197,9 +198,7 @@ struct Analyses {
 };
 
 struct AnalysisInputs {
-  const TriangleMesh& guide;       // the candidate guide (or shell)
-  const AabbTree& guide_tree;      // over all of its faces (its check reads it too)
-  const TriangleMesh& inner;       // its inner surface (the region at the clearance)
+  const TriangleMesh& inner;       // the shell's inner surface (the region at the clearance)
   const std::vector<Index>& rim;   // the inner surface's border
   const std::vector<Vec3>& outer;  // the outer surface's points
   const TriangleMesh& bone_region; // the region as cut from the bone
@@ -209,6 +208,10 @@ struct AnalysisInputs {
   const InsertionReport& insertion;
   double resolution;
 };
+
+double contact_reach(const TemplateOptions& options, double resolution) {
+  return options.clearance + 0.25 * resolution;
+}
 
 TemplateFit measure_fit(const AnalysisInputs& in) {
   TemplateFit fit;
@@ -234,34 +237,33 @@ TemplateFit measure_fit(const AnalysisInputs& in) {
   return fit;
 }
 
-Analyses analyse_candidate(const AnalysisInputs& in, const TemplateOptions& options) {
-  Analyses out;
-  std::optional<detail::Background> fit, removal;
+// The fit (on a thread of its own) and the stability (on the caller's thread) of a candidate shell.
+void analyse_shell(const AnalysisInputs& in, const TemplateOptions& options, Analyses& out) {
+  std::optional<detail::Background> fit;
   if (options.measure_fit) fit.emplace([&] { out.fit = measure_fit(in); });
-  if (!in.bone_tree) {
-    if (fit) fit->join();
-    return out;
-  }
-  const InsertionReport& ins = in.insertion;
-  const double reach = options.clearance + 0.25 * in.resolution;
-  removal.emplace([&] {
+  if (in.bone_tree) {
     const auto t0 = Clock::now();
-    std::optional<SweepTest> own;
-    const SweepTest& sweep = in.sweep ? *in.sweep : own.emplace(*in.bone_tree);
-    out.removal = sweep(in.guide, ins.direction, options.removal_distance, SweepStart::shrunk, &in.guide_tree);
-    out.inner_area_mm2 = surface_area(in.inner);
-    out.contact_area_mm2 = contact_area(in.inner, ins.filled, *in.bone_tree, reach);
-    out.removal_seconds = seconds_since(t0);
-  });
-  const auto t0 = Clock::now();
-  // Contacts of the inner surface (block-out fills left out: they bridge what the guide cannot reach).
-  const AabbTree covered(ins.region.empty() ? in.inner : ins.region);
-  out.stability =
-      guide_stability(in.inner, *in.bone_tree, ins.direction, reach, in.outer, in.curve, covered, 0.05, ins.filled);
-  out.stability_seconds = seconds_since(t0);
+    const InsertionReport& ins = in.insertion;
+    // Contacts of the inner surface (block-out fills left out: they bridge what the guide cannot reach).
+    const AabbTree covered(ins.region.empty() ? in.inner : ins.region);
+    out.stability = guide_stability(in.inner, *in.bone_tree, ins.direction, contact_reach(options, in.resolution),
+                                    in.outer, in.curve, covered, 0.05, ins.filled);
+    out.stability_seconds = seconds_since(t0);
+  }
   if (fit) fit->join();
-  removal->join();
-  return out;
+}
+
+// How the candidate guide (or shell) comes off the bone, and its contact area.
+void analyse_removal(const AnalysisInputs& in, const TriangleMesh& guide, const AabbTree& guide_tree,
+                     const TemplateOptions& options, Analyses& out) {
+  const auto t0 = Clock::now();
+  const InsertionReport& ins = in.insertion;
+  std::optional<SweepTest> own;
+  const SweepTest& sweep = in.sweep ? *in.sweep : own.emplace(*in.bone_tree);
+  out.removal = sweep(guide, ins.direction, options.removal_distance, SweepStart::shrunk, &guide_tree);
+  out.inner_area_mm2 = surface_area(in.inner);
+  out.contact_area_mm2 = contact_area(in.inner, ins.filled, *in.bone_tree, contact_reach(options, in.resolution));
+  out.removal_seconds = seconds_since(t0);
 }
 
 } // namespace
@@ -351,27 +353,37 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   guide_options.check_blade_paths = options.check;
   std::optional<template_detail::ShellBuild> built;
   std::optional<GuideResult> guide;
-  // The analyses of the candidate guide (or shell), beside its check (declared after what they read,
-  // so that they are joined before it goes).
+  // The analyses of the candidate shell, from when it is built, and of the candidate guide (or shell),
+  // beside its check (declared after what they read, so that they are joined before it goes).
   Analyses analyses;
-  std::optional<AabbTree> candidate_tree; // read by the analyses and the check
-  std::optional<detail::Background> analysing;
-  auto analyse_beside = [&](const TriangleMesh& candidate) {
-    analysing.reset();
+  std::optional<AabbTree> candidate_tree; // read by the removal check and the guide's check
+  std::optional<detail::Background> analysing_shell, analysing_guide;
+  auto stop_analyses = [&] {
+    analysing_guide.reset();
+    analysing_shell.reset();
+  };
+  auto inputs = [&] {
+    return AnalysisInputs{inner.region,
+                          inner.rim,
+                          built->shell.outer.positions,
+                          bone_region,
+                          curve.polyline,
+                          options.analyse_insertion ? &*bone_tree : nullptr,
+                          sweep ? &*sweep : nullptr,
+                          result.insertion,
+                          result.resolution};
+  };
+  auto analyse_shell_beside = [&] {
+    stop_analyses();
+    if (!options.check) return;
+    analysing_shell.emplace([&, in = inputs()] { analyse_shell(in, options, analyses); });
+  };
+  auto analyse_guide_beside = [&](const TriangleMesh& candidate) {
+    analysing_guide.reset();
     if (!options.check) return;
     candidate_tree.emplace(candidate);
-    const AnalysisInputs in{candidate,
-                            *candidate_tree,
-                            inner.region,
-                            inner.rim,
-                            built->shell.outer.positions,
-                            bone_region,
-                            curve.polyline,
-                            options.analyse_insertion ? &*bone_tree : nullptr,
-                            sweep ? &*sweep : nullptr,
-                            result.insertion,
-                            result.resolution};
-    analysing.emplace([&, in] { analyses = analyse_candidate(in, options); });
+    if (!options.analyse_insertion) return;
+    analysing_guide.emplace([&, in = inputs()] { analyse_removal(in, candidate, *candidate_tree, options, analyses); });
   };
   auto check = [&](const TriangleMesh& mesh, const AabbTree* tree = nullptr) {
     const auto t_check = Clock::now();
@@ -383,17 +395,18 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   };
   // One contouring's shell (and its contoured alternative) with the parts: true when it passed.
   auto accept = [&](bool tetrahedra) {
-    analysing.reset();
+    stop_analyses();
     result.body_inner_faces = inner.region.face_count();
     built = template_detail::build_shell(inner, options, tetrahedra, result);
     for (int contoured = 0; contoured < (built->contoured ? 2 : 1); ++contoured) {
       if (contoured) {
-        analysing.reset();
+        stop_analyses();
         built->shell = std::move(*built->contoured);
       }
       const TriangleMesh& shell = built->shell.mesh;
+      analyse_shell_beside();
       if (!parts) {
-        analyse_beside(shell);
+        analyse_guide_beside(shell);
         if (!options.check || check(shell, &*candidate_tree)) return true;
         continue;
       }
@@ -403,14 +416,14 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
                             guide_options);
         result.times.boolean += guide->seconds;
         result.times.validation += guide->blade_path_seconds;
-        analyse_beside(guide->mesh);
+        analyse_guide_beside(guide->mesh);
         if (!options.check || check(guide->mesh, &*candidate_tree)) return true;
         failure.emplace("the guide with its tubes failed its check: " + result.solid.summary());
       } catch (const GeometryError& e) {
         failure = e;
       }
       if (!options.check || check(shell)) throw *failure; // the parts' doing, not the shell's
-      analysing.reset();                                  // it reads the guide
+      analysing_guide.reset();                            // it reads the guide
       guide.reset();
     }
     return false;
@@ -428,7 +441,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   };
   std::optional<std::string> failure = design_shell();
   if (failure && unskirted) { // the skirt's doing: the guide ends at the silhouette instead
-    analysing.reset();
+    stop_analyses();
     inner = std::move(*unskirted);
     unskirted.reset(); // a failure now is the guide's own: thrown as it is
     InsertionReport& ins = result.insertion;
@@ -443,7 +456,8 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   // counts the wall time from the check's start to here: the check's, and what the analyses took
   // beyond it.
   const auto t_join = Clock::now();
-  if (analysing) analysing->join(); // what the analyses threw is thrown here
+  if (analysing_shell) analysing_shell->join(); // what the analyses threw is thrown here
+  if (analysing_guide) analysing_guide->join();
   result.times.validation += seconds_since(t_join);
   if (analyses.fit) result.fit = *analyses.fit;
   if (analyses.stability) result.stability = std::move(*analyses.stability);
