@@ -327,6 +327,10 @@ void AabbTree::for_each_overlapping_pair(const std::function<void(Index, Index)>
 }
 
 std::vector<std::pair<Index, Index>> AabbTree::overlapping_pairs() const {
+  return overlapping_pairs([](Index, Index) { return true; });
+}
+
+std::vector<std::pair<Index, Index>> AabbTree::overlapping_pairs(const std::function<bool(Index, Index)>& keep) const {
   if (nodes_.empty()) return {};
   // The first levels of self_pairs' recursion, expanded into node pairs (tasks), then each task's
   // pairs on its own thread, gathered in task order.
@@ -344,7 +348,9 @@ std::vector<std::pair<Index, Index>> AabbTree::overlapping_pairs() const {
   std::vector<std::vector<std::pair<Index, Index>>> found(tasks.size());
   detail::parallel_for(tasks.size(), 1, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
-      self_pairs(tasks[i].first, tasks[i].second, [&](Index x, Index y) { found[i].emplace_back(x, y); });
+      self_pairs(tasks[i].first, tasks[i].second, [&](Index x, Index y) {
+        if (keep(x, y)) found[i].emplace_back(x, y);
+      });
   });
   std::size_t total = 0;
   for (const auto& f : found) total += f.size();

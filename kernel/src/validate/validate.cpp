@@ -45,111 +45,138 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
   r.triangles = mesh.face_count();
   r.area = surface_area(mesh);
   r.volume = signed_volume(mesh);
-  auto note = [&](const Vec3& p) {
-    if (r.problem_points.size() < 10) r.problem_points.push_back(p);
+  // What is found is gathered per chunk of faces (vertices), in order, so that the report does not
+  // depend on the number of threads.
+  constexpr std::size_t kGrain = 4096;
+  struct Found {
+    std::size_t degenerate = 0, border = 0, nonmanifold = 0, misoriented = 0, fans = 0;
+    std::vector<Vec3> at; // the first few problem points
+    void note(const Vec3& p) {
+      if (at.size() < 10) at.push_back(p);
+    }
+  };
+  auto gather = [&](const std::vector<Found>& chunks) {
+    for (const Found& c : chunks) {
+      r.degenerate_triangles += c.degenerate;
+      r.border_edges += c.border;
+      r.nonmanifold_edges += c.nonmanifold;
+      r.misoriented_edges += c.misoriented;
+      r.nonmanifold_vertices += c.fans;
+      for (const Vec3& p : c.at)
+        if (r.problem_points.size() < 10) r.problem_points.push_back(p);
+    }
+  };
+  const std::size_t faces = mesh.face_count();
+  auto repeats = [&](Index f) {
+    const Triangle& t = mesh.triangles[f];
+    return t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
   };
 
-  // Edges: count uses per direction.
-  std::unordered_map<std::uint64_t, std::pair<int, int>> edges; // (lo->hi uses, hi->lo uses)
-  edges.reserve(mesh.triangles.size() * 2);
-  for (const Triangle& t : mesh.triangles) {
-    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
-      ++r.degenerate_triangles;
-      note(mesh.positions[t[0]]);
-      continue;
-    }
-    for (int k = 0; k < 3; ++k) {
-      const Index a = t[k], b = t[(k + 1) % 3];
-      const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-      auto& e = edges[key];
-      (a < b ? e.first : e.second)++;
-    }
-  }
-  for (Index f = 0; f < mesh.face_count(); ++f)
-    if (triangle_normal(mesh, f).squaredNorm() == 0.0) {
-      ++r.degenerate_triangles;
-      note(mesh.positions[mesh.triangles[f][0]]);
-    }
-  for (const auto& [key, uses] : edges) {
-    const int total = uses.first + uses.second;
-    const Vec3& p = mesh.positions[static_cast<Index>(key >> 32)];
-    if (total == 1) {
-      ++r.border_edges;
-      note(p);
-    } else if (total > 2) {
-      ++r.nonmanifold_edges;
-      note(p);
-    } else if (uses.first != 1) {
-      ++r.misoriented_edges;
-      note(p);
-    }
+  // Edges, from the faces around their ends: each edge is counted once, at the first of its half-edges
+  // (faces with a repeated corner left out); the opposite of every half-edge comes with it.
+  const MeshTopology topology(mesh);
+  std::vector<Index> opp(3 * faces, kInvalidIndex);
+  {
+    std::vector<Found> chunks((faces + kGrain - 1) / kGrain);
+    detail::parallel_for(faces, kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
+      Found& c = chunks[begin / kGrain];
+      for (Index f = static_cast<Index>(begin); f < end; ++f) {
+        const Triangle& t = mesh.triangles[f];
+        if (repeats(f) || triangle_normal(mesh, f).squaredNorm() == 0.0) {
+          ++c.degenerate;
+          c.note(mesh.positions[t[0]]);
+        }
+        if (repeats(f)) continue;
+        for (Index k = 0; k < 3; ++k) {
+          const Index h = 3 * f + k, a = t[k], b = t[(k + 1) % 3];
+          int reverse = 0, same = 0;
+          bool first = true;
+          Index found = kInvalidIndex;
+          for (Index g : topology.faces_of(b)) {
+            if (g == f || repeats(g)) continue;
+            const Triangle& u = mesh.triangles[g];
+            const Index j = u[0] == b ? 0 : (u[1] == b ? 1 : 2);
+            Index other = kInvalidIndex; // g's half-edge on this edge
+            if (u[(j + 1) % 3] == a) {
+              ++reverse;
+              found = other = 3 * g + j;
+            } else if (u[(j + 2) % 3] == a) {
+              ++same;
+              other = 3 * g + (j + 2) % 3;
+            }
+            if (other != kInvalidIndex && other < h) first = false;
+          }
+          if (reverse == 1 && same == 0) opp[h] = found;
+          if (!first) continue;
+          const int total = 1 + reverse + same;
+          if (total == 1) ++c.border;
+          else if (total > 2) ++c.nonmanifold;
+          else if (reverse != 1) ++c.misoriented;
+          else continue;
+          c.note(mesh.positions[a]);
+        }
+      }
+    });
+    gather(chunks);
   }
 
-  // Vertex fans and components.
-  const MeshTopology topology(mesh);
-  const std::vector<Index> opp = topology.all_opposites();
+  // Vertex fans: one walk around each vertex through manifold edges must reach all of its faces.
   r.components = component_count(mesh, opp);
-  for (Index v = 0; v < mesh.vertex_count(); ++v) {
-    const auto faces = topology.faces_of(v);
-    if (faces.empty()) continue;
-    // Walk one fan around v through manifold edges; it must reach every face of v.
-    std::size_t reached = 0;
-    const Index f0 = faces[0];
-    Index h = 0;
-    for (Index k = 0; k < 3; ++k)
-      if (mesh.triangles[f0][k] == v) h = 3 * f0 + k; // outgoing half-edge of v in f0
-    // Rotate one way.
-    Index cur = h;
-    bool closed_fan = false;
-    do {
-      ++reached;
-      const Index in = prev_halfedge(cur); // incoming to v
-      const Index o = opp[in];
-      if (o == kInvalidIndex) break;
-      cur = o; // outgoing from v in the next face
-      if (cur == h) closed_fan = true;
-    } while (!closed_fan && reached <= faces.size());
-    if (!closed_fan) {
-      // Rotate the other way from h.
-      cur = h;
-      while (true) {
-        const Index o = opp[cur];
-        if (o == kInvalidIndex) break;
-        cur = next_halfedge(o);
-        ++reached;
-        if (reached > faces.size()) break;
+  {
+    const std::size_t vertices = mesh.vertex_count();
+    std::vector<Found> chunks((vertices + kGrain - 1) / kGrain);
+    detail::parallel_for(vertices, kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
+      Found& c = chunks[begin / kGrain];
+      for (Index v = static_cast<Index>(begin); v < end; ++v) {
+        const auto around = topology.faces_of(v);
+        if (around.empty()) continue;
+        std::size_t reached = 0;
+        const Index f0 = around[0];
+        Index h = 0;
+        for (Index k = 0; k < 3; ++k)
+          if (mesh.triangles[f0][k] == v) h = 3 * f0 + k; // outgoing half-edge of v in f0
+        // Rotate one way.
+        Index cur = h;
+        bool closed_fan = false;
+        do {
+          ++reached;
+          const Index o = opp[prev_halfedge(cur)]; // across the edge coming in to v
+          if (o == kInvalidIndex) break;
+          cur = o; // outgoing from v in the next face
+          if (cur == h) closed_fan = true;
+        } while (!closed_fan && reached <= around.size());
+        if (!closed_fan) { // the other way from h
+          for (cur = h; reached <= around.size(); ++reached) {
+            const Index o = opp[cur];
+            if (o == kInvalidIndex) break;
+            cur = next_halfedge(o);
+          }
+        }
+        if (reached != around.size()) {
+          ++c.fans;
+          c.note(mesh.positions[v]);
+        }
       }
-    }
-    if (reached != faces.size()) {
-      ++r.nonmanifold_vertices;
-      note(mesh.positions[v]);
-    }
+    });
+    gather(chunks);
   }
 
   if (options.check_self_intersections && r.degenerate_triangles == 0) {
-    // The candidate pairs (overlapping boxes) from the tree, then the exact tests on all threads; what
-    // is found is gathered per chunk, in pair order, so the report does not depend on the threads.
+    // The exact tests run on the threads that find the pairs (overlapping boxes) in the tree.
     std::optional<AabbTree> own_tree;
     const AabbTree& tree = options.tree ? *options.tree : own_tree.emplace(mesh);
-    const std::vector<std::pair<Index, Index>> pairs = tree.overlapping_pairs();
-    constexpr std::size_t kGrain = 4096;
-    std::vector<std::vector<Index>> found((pairs.size() + kGrain - 1) / kGrain);
-    detail::parallel_for(pairs.size(), kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i) {
-        const auto [a, b] = pairs[i];
-        const Triangle& ta = mesh.triangles[a];
-        const Triangle& tb = mesh.triangles[b];
-        const std::array<Vec3, 3> pa{mesh.positions[ta[0]], mesh.positions[ta[1]], mesh.positions[ta[2]]};
-        const std::array<Vec3, 3> pb{mesh.positions[tb[0]], mesh.positions[tb[1]], mesh.positions[tb[2]]};
-        if (mesh_triangles_intersect(ta, pa, tb, pb)) found[begin / kGrain].push_back(a);
-      }
+    const std::vector<std::pair<Index, Index>> crossing = tree.overlapping_pairs([&](Index a, Index b) {
+      const Triangle& ta = mesh.triangles[a];
+      const Triangle& tb = mesh.triangles[b];
+      const std::array<Vec3, 3> pa{mesh.positions[ta[0]], mesh.positions[ta[1]], mesh.positions[ta[2]]};
+      const std::array<Vec3, 3> pb{mesh.positions[tb[0]], mesh.positions[tb[1]], mesh.positions[tb[2]]};
+      return mesh_triangles_intersect(ta, pa, tb, pb);
     });
-    for (const std::vector<Index>& chunk : found)
-      for (Index a : chunk) {
-        if (r.self_intersections >= options.max_reported) break;
-        ++r.self_intersections;
-        note(mesh.positions[mesh.triangles[a][0]]);
-      }
+    for (const auto& [a, b] : crossing) {
+      if (r.self_intersections >= options.max_reported) break;
+      ++r.self_intersections;
+      if (r.problem_points.size() < 10) r.problem_points.push_back(mesh.positions[mesh.triangles[a][0]]);
+    }
   }
   return r;
 }

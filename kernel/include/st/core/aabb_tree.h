@@ -70,6 +70,12 @@ public:
   /// order whatever the number of threads.
   [[nodiscard]] std::vector<std::pair<Index, Index>> overlapping_pairs() const;
 
+  /// The same pairs, only those for which keep(fa, fb) is true, tested on the threads that find them
+  /// (keep must be safe to call from several threads): a costly test over many pairs without storing
+  /// them all. The same pairs in the same order whatever the number of threads.
+  [[nodiscard]] std::vector<std::pair<Index, Index>>
+  overlapping_pairs(const std::function<bool(Index, Index)>& keep) const;
+
   /// Calls visit(fa, fb) for every triangle fa of this tree and fb of `other` whose boxes overlap.
   void for_each_overlapping_pair(const AabbTree& other, const std::function<void(Index, Index)>& visit) const;
 
