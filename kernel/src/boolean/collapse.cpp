@@ -61,15 +61,15 @@ public:
 
   /// Lists the faces around each end of the edges, the only vertices that may move.
   void index_faces(const std::vector<std::pair<Index, Index>>& edges) {
+    std::vector<std::uint8_t> end(m_.vertex_count(), 0);
     for (const auto& [u, v] : edges) {
       faces_of_[u];
       faces_of_[v];
+      end[u] = end[v] = 1;
     }
     for (Index f = 0; f < m_.face_count(); ++f)
-      for (Index v : m_.triangles[f]) {
-        const auto it = faces_of_.find(v);
-        if (it != faces_of_.end()) it->second.push_back(f);
-      }
+      for (Index v : m_.triangles[f])
+        if (end[v]) faces_of_[v].push_back(f);
   }
 
   /// Collapses the edge (u, v) one way or the other when allowed.

@@ -67,22 +67,36 @@ std::vector<Vec3> vertex_normals(const TriangleMesh& mesh) {
 
 TriangleMesh submesh(const TriangleMesh& mesh, const std::vector<Index>& faces, std::vector<Index>* vertex_map) {
   TriangleMesh out;
-  std::unordered_map<Index, Index> remap;
-  remap.reserve(faces.size());
   std::vector<Index> inverse;
   out.triangles.reserve(faces.size());
-  for (Index f : faces) {
-    Triangle t{};
-    for (int k = 0; k < 3; ++k) {
-      const Index v = mesh.triangles[f][k];
-      auto [it, inserted] = remap.try_emplace(v, static_cast<Index>(out.positions.size()));
-      if (inserted) {
-        out.positions.push_back(mesh.positions[v]);
-        inverse.push_back(v);
+  // Vertices numbered in the order the faces first use them; a table over all of the mesh's vertices
+  // when the faces are a good part of it, a hash map when they are a few.
+  auto copy = [&](auto& remap, auto&& slot) {
+    for (Index f : faces) {
+      Triangle t{};
+      for (int k = 0; k < 3; ++k) {
+        const Index v = mesh.triangles[f][k];
+        Index& to = slot(remap, v);
+        if (to == kInvalidIndex) {
+          to = static_cast<Index>(out.positions.size());
+          out.positions.push_back(mesh.positions[v]);
+          inverse.push_back(v);
+        }
+        t[k] = to;
       }
-      t[k] = it->second;
+      out.triangles.push_back(t);
     }
-    out.triangles.push_back(t);
+  };
+  if (16 * faces.size() >= mesh.vertex_count()) {
+    std::vector<Index> remap(mesh.vertex_count(), kInvalidIndex);
+    out.positions.reserve(std::min<std::size_t>(mesh.vertex_count(), 3 * faces.size()));
+    copy(remap, [](std::vector<Index>& r, Index v) -> Index& { return r[v]; });
+  } else {
+    std::unordered_map<Index, Index> remap;
+    remap.reserve(faces.size());
+    copy(remap, [](std::unordered_map<Index, Index>& r, Index v) -> Index& {
+      return r.try_emplace(v, kInvalidIndex).first->second;
+    });
   }
   if (vertex_map) *vertex_map = std::move(inverse);
   return out;
