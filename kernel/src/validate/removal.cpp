@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <mutex>
@@ -184,13 +185,31 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
   near.erase(std::unique(near.begin(), near.end()), near.end());
   // A bone vertex the guide copies (zero clearance, a rim through a bone vertex) touches the guide
   // there; the faces and edges around it are tested by the other two families.
+  // The near bone vertices, sorted by a hash of their coordinates' bits, are looked up per guide
+  // vertex; equal hashes are compared exactly.
   {
-    std::vector<Vec3> at = guide.positions;
-    auto less = [](const Vec3& a, const Vec3& b) {
-      return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+    auto hash = [](const Vec3& p) {
+      std::uint64_t h = 0x9E3779B97F4A7C15ULL;
+      for (int k = 0; k < 3; ++k) {
+        h ^= std::bit_cast<std::uint64_t>(p[k] == 0.0 ? 0.0 : p[k]) + 0x9E3779B97F4A7C15ULL + (h << 6) + (h >> 2);
+        h *= 0xbf58476d1ce4e5b9ULL;
+      }
+      return h;
     };
-    std::sort(at.begin(), at.end(), less);
-    std::erase_if(near, [&](Index v) { return std::binary_search(at.begin(), at.end(), bmesh.positions[v], less); });
+    std::vector<std::pair<std::uint64_t, Index>> keyed(near.size());
+    for (std::size_t i = 0; i < near.size(); ++i) keyed[i] = {hash(bmesh.positions[near[i]]), static_cast<Index>(i)};
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<std::uint8_t> copied(near.size(), 0);
+    for (const Vec3& p : guide.positions) {
+      const std::uint64_t h = hash(p);
+      for (auto it = std::lower_bound(keyed.begin(), keyed.end(), std::pair{h, Index{0}});
+           it != keyed.end() && it->first == h; ++it)
+        if (bmesh.positions[near[it->second]] == p) copied[it->second] = 1;
+    }
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < near.size(); ++i)
+      if (!copied[i]) near[kept++] = near[i];
+    near.resize(kept);
   }
   detail::parallel_for(near.size(), 512, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
