@@ -8,23 +8,39 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <limits>
 #include <numeric>
 #include <optional>
 #include <utility>
 
 namespace st {
 
-namespace {
-
-double box_distance_squared(const BoundingBox& b, const Vec3& p) {
-  const Vec3 d = (b.min - p).cwiseMax(p - b.max).cwiseMax(Vec3::Zero());
-  return d.squaredNorm();
+AabbTree::FloatBox AabbTree::FloatBox::around(const BoundingBox& b) {
+  FloatBox f;
+  for (int k = 0; k < 3; ++k) {
+    f.min[k] = static_cast<float>(b.min[k]);
+    if (double(f.min[k]) > b.min[k]) f.min[k] = std::nextafter(f.min[k], -std::numeric_limits<float>::infinity());
+    f.max[k] = static_cast<float>(b.max[k]);
+    if (double(f.max[k]) < b.max[k]) f.max[k] = std::nextafter(f.max[k], std::numeric_limits<float>::infinity());
+  }
+  return f;
 }
 
-bool ray_hits_box(const BoundingBox& b, const Vec3& o, const Vec3& inv_dir, double t0, double t1) {
+namespace {
+
+using Corner = std::array<float, 3>;
+
+double box_distance_squared(const Corner& min, const Corner& max, const Vec3& p) {
+  const Vec3 lo(min[0], min[1], min[2]), hi(max[0], max[1], max[2]);
+  return (lo - p).cwiseMax(p - hi).cwiseMax(0.0).squaredNorm();
+}
+
+// Whether the ray meets the box grown by `pad` for t in [t0, t1].
+bool ray_hits_box(const Corner& min, const Corner& max, double pad, const Vec3& o, const Vec3& inv_dir, double t0,
+                  double t1) {
   for (int k = 0; k < 3; ++k) {
-    double ta = (b.min[k] - o[k]) * inv_dir[k];
-    double tb = (b.max[k] - o[k]) * inv_dir[k];
+    double ta = (double(min[k]) - pad - o[k]) * inv_dir[k];
+    double tb = (double(max[k]) + pad - o[k]) * inv_dir[k];
     if (ta > tb) std::swap(ta, tb);
     if (std::isnan(ta) || std::isnan(tb)) continue; // ray parallel and on the slab border
     t0 = std::max(t0, ta);
@@ -106,7 +122,7 @@ AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces) : mesh_(m
   std::vector<std::uint64_t> codes(n);
   for (std::size_t i = 0; i < n; ++i) {
     sorted_faces[i] = faces_[keyed[i].item];
-    face_boxes_[i] = boxes[keyed[i].item];
+    face_boxes_[i] = FloatBox::around(boxes[keyed[i].item]);
     codes[i] = keyed[i].code;
   }
   faces_ = std::move(sorted_faces);
@@ -121,8 +137,8 @@ Index AabbTree::build(const std::vector<std::uint64_t>& codes, Index begin, Inde
   const auto id = static_cast<Index>(nodes_.size());
   nodes_.emplace_back();
   if (end - begin <= kLeafSize) {
-    BoundingBox box;
-    for (Index i = begin; i < end; ++i) box.extend(face_boxes_[i]);
+    FloatBox box = face_boxes_[begin];
+    for (Index i = begin + 1; i < end; ++i) box.extend(face_boxes_[i]);
     nodes_[id].box = box;
     nodes_[id].begin = begin;
     nodes_[id].end = end;
@@ -173,7 +189,7 @@ std::optional<ClosestPoint> AabbTree::nearest(const Vec3& p, double max_distance
   stack[top++] = 0;
   while (top > 0) {
     const Node& n = nodes_[stack[--top]];
-    if (box_distance_squared(n.box, p) > best) continue;
+    if (box_distance_squared(n.box.min, n.box.max, p) > best) continue;
     if (n.left == kInvalidIndex) {
       for (Index i = n.begin; i < n.end; ++i) {
         if (beyond(faces_[i], best)) continue;
@@ -190,8 +206,8 @@ std::optional<ClosestPoint> AabbTree::nearest(const Vec3& p, double max_distance
       }
       continue;
     }
-    const double dl = box_distance_squared(nodes_[n.left].box, p);
-    const double dr = box_distance_squared(nodes_[n.right].box, p);
+    const double dl = box_distance_squared(nodes_[n.left].box.min, nodes_[n.left].box.max, p);
+    const double dr = box_distance_squared(nodes_[n.right].box.min, nodes_[n.right].box.max, p);
     if (dl < dr) {
       stack[top++] = n.right;
       stack[top++] = n.left;
@@ -223,7 +239,7 @@ template <class Leaf> bool AabbTree::along(const Vec3& origin, const Vec3& direc
   stack[top++] = 0;
   while (top > 0) {
     const Node& n = nodes_[stack[--top]];
-    if (!ray_hits_box(pad > 0.0 ? n.box.inflated(pad) : n.box, origin, inv, t_min, t_max)) continue;
+    if (!ray_hits_box(n.box.min, n.box.max, std::max(pad, 0.0), origin, inv, t_min, t_max)) continue;
     if (n.left == kInvalidIndex) {
       for (Index i = n.begin; i < n.end; ++i)
         if (leaf(faces_[i])) return true;
