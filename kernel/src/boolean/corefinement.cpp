@@ -395,29 +395,12 @@ private:
         v.inside = 0;
       }
     }
-    // Across an edge of the curve the surface passes from inside the other operand to outside (the
-    // contacts are in general position): a component no side test decided, such as a strip between
-    // two curves whose corners are all curve points, takes the other side from a decided neighbour.
-    std::vector<std::vector<Index>> across(verdicts.size());
+    std::vector<std::pair<Index, Index>> across; // the components on the two sides of each curve edge
     for (const SeamSegment& g : seam_) {
       const std::array<Index, 2>& two = seam_pieces.at(edge_key(g.p, g.q));
-      const Index c0 = component[two[0]], c1 = component[two[1]];
-      if (c0 == c1) continue;
-      across[c0].push_back(c1);
-      across[c1].push_back(c0);
+      across.emplace_back(component[two[0]], component[two[1]]);
     }
-    std::vector<Index> decided;
-    for (Index c = 0; c < verdicts.size(); ++c)
-      if (verdicts[c].inside >= 0) decided.push_back(c);
-    while (!decided.empty()) {
-      const Index c = decided.back();
-      decided.pop_back();
-      for (Index d : across[c])
-        if (verdicts[d].inside < 0) {
-          verdicts[d].inside = 1 - verdicts[c].inside;
-          decided.push_back(d);
-        }
-    }
+    decide_across_curve(across, verdicts);
     // Pieces no curve reaches and not joined to far faces (a part wholly inside or outside): rays.
     for (Index i = 0; i < n; ++i) {
       Verdict& v = verdicts[component[i]];

@@ -99,6 +99,12 @@ std::vector<OrientedBox> component_boxes(const TriangleMesh& mesh);
 /// The faces of `mesh` that may meet one of the boxes.
 std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<OrientedBox>& boxes);
 
+/// Across an edge of the intersection curve an operand's surface passes from inside the other operand
+/// to outside (the contacts are in general position): a component no side test decided, such as a
+/// strip between two curves whose corners are all curve points, takes the other side from a decided
+/// neighbour. `across` holds the components on the two sides of each curve edge.
+void decide_across_curve(const std::vector<std::pair<Index, Index>>& across, std::vector<Verdict>& verdicts);
+
 /// Parity of ray crossings from p against a closed mesh; tries other directions when a ray grazes an
 /// edge (throws Degenerate when every one does). Used only for pieces no intersection curve reaches.
 bool inside_by_rays(const Vec3& p, const TriangleMesh& mesh);

@@ -1,5 +1,6 @@
 // The regions of the Boolean's operands: oriented boxes of components, the faces near them, the
-// ray-parity inside test, and the check that the pieces kept by their verdicts close up.
+// decision across the curve for components no side test decides, the ray-parity inside test, and
+// the check that the pieces kept by their verdicts close up.
 
 #include "boolean/corefinement.h"
 
@@ -95,6 +96,27 @@ std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<Orient
       }
   }
   return out;
+}
+
+void decide_across_curve(const std::vector<std::pair<Index, Index>>& across, std::vector<Verdict>& verdicts) {
+  std::vector<std::vector<Index>> neighbours(verdicts.size());
+  for (const auto& [c0, c1] : across) {
+    if (c0 == c1) continue;
+    neighbours[c0].push_back(c1);
+    neighbours[c1].push_back(c0);
+  }
+  std::vector<Index> decided;
+  for (Index c = 0; c < verdicts.size(); ++c)
+    if (verdicts[c].inside >= 0) decided.push_back(c);
+  while (!decided.empty()) {
+    const Index c = decided.back();
+    decided.pop_back();
+    for (Index d : neighbours[c])
+      if (verdicts[d].inside < 0) {
+        verdicts[d].inside = 1 - verdicts[c].inside;
+        decided.push_back(d);
+      }
+  }
 }
 
 bool inside_by_rays(const Vec3& p, const TriangleMesh& mesh) {
