@@ -21,25 +21,8 @@ MeshTopology::MeshTopology(const TriangleMesh& mesh) : mesh_(mesh) {
 }
 
 Index MeshTopology::opposite(Index h) const {
-  const Index f = h / 3;
-  const Index a = from_vertex(h);
-  const Index b = to_vertex(h);
-  Index found = kInvalidIndex;
-  int reverse = 0;
-  int same = 0;
-  for (Index g : faces_of(b)) {
-    if (g == f) continue;
-    const Triangle& t = mesh_.triangles[g];
-    // Where b sits in g; then b -> a follows it, or a -> b precedes it.
-    const Index k = t[0] == b ? 0 : (t[1] == b ? 1 : 2);
-    if (t[(k + 1) % 3] == a) {
-      ++reverse;
-      found = 3 * g + k;
-    } else if (t[(k + 2) % 3] == a) {
-      ++same;
-    }
-  }
-  return (reverse == 1 && same == 0) ? found : kInvalidIndex;
+  const EdgeUses uses = edge_uses(h, [](Index) { return false; });
+  return (uses.reverse == 1 && uses.same == 0) ? uses.opposite : kInvalidIndex;
 }
 
 std::vector<Index> MeshTopology::all_opposites() const {

@@ -31,6 +31,13 @@ bool crosses(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const V
   return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
 }
 
+/// A bijective mix of 64 bits (splitmix64's finaliser).
+std::uint64_t mix(std::uint64_t x) {
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
 /// A face within this angle (radians) of lying along the way off counts as facing both ways.
 constexpr double kAcross = 1e-6;
 constexpr std::uint8_t kFront = 1, kBack = 2, kSilhouette = 4, kOpen = 8;
@@ -41,11 +48,6 @@ constexpr std::uint8_t kFront = 1, kBack = 2, kSilhouette = 4, kOpen = 8;
 std::vector<std::uint8_t> sweeping_vertices(const TriangleMesh& mesh, const Vec3& w) {
   // A fan is closed when each neighbour appears in two of its faces: the XOR of a bijective hash of
   // the neighbours over the faces is then 0 (a border's two ends leave their hashes, never 0).
-  auto mix = [](std::uint64_t x) {
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-    return x ^ (x >> 31);
-  };
   std::vector<std::uint64_t> fan(mesh.vertex_count(), 0);
   std::vector<std::uint8_t> flags(mesh.vertex_count(), 0);
   for (Index f = 0; f < mesh.face_count(); ++f) {
@@ -189,11 +191,8 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
   // vertex; equal hashes are compared exactly.
   {
     auto hash = [](const Vec3& p) {
-      std::uint64_t h = 0x9E3779B97F4A7C15ULL;
-      for (int k = 0; k < 3; ++k) {
-        h ^= std::bit_cast<std::uint64_t>(p[k] == 0.0 ? 0.0 : p[k]) + 0x9E3779B97F4A7C15ULL + (h << 6) + (h >> 2);
-        h *= 0xbf58476d1ce4e5b9ULL;
-      }
+      std::uint64_t h = 0;
+      for (int k = 0; k < 3; ++k) h = mix(h ^ std::bit_cast<std::uint64_t>(p[k] == 0.0 ? 0.0 : p[k])); // -0 as 0
       return h;
     };
     std::vector<std::pair<std::uint64_t, Index>> keyed(near.size());

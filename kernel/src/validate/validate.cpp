@@ -88,32 +88,16 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
         }
         if (repeats(f)) continue;
         for (Index k = 0; k < 3; ++k) {
-          const Index h = 3 * f + k, a = t[k], b = t[(k + 1) % 3];
-          int reverse = 0, same = 0;
-          bool first = true;
-          Index found = kInvalidIndex;
-          for (Index g : topology.faces_of(b)) {
-            if (g == f || repeats(g)) continue;
-            const Triangle& u = mesh.triangles[g];
-            const Index j = u[0] == b ? 0 : (u[1] == b ? 1 : 2);
-            Index other = kInvalidIndex; // g's half-edge on this edge
-            if (u[(j + 1) % 3] == a) {
-              ++reverse;
-              found = other = 3 * g + j;
-            } else if (u[(j + 2) % 3] == a) {
-              ++same;
-              other = 3 * g + (j + 2) % 3;
-            }
-            if (other != kInvalidIndex && other < h) first = false;
-          }
-          if (reverse == 1 && same == 0) opp[h] = found;
-          if (!first) continue;
-          const int total = 1 + reverse + same;
+          const Index h = 3 * f + k;
+          const MeshTopology::EdgeUses uses = topology.edge_uses(h, repeats);
+          if (uses.reverse == 1 && uses.same == 0) opp[h] = uses.opposite;
+          if (uses.lowest < h) continue;
+          const int total = 1 + uses.reverse + uses.same;
           if (total == 1) ++c.border;
           else if (total > 2) ++c.nonmanifold;
-          else if (reverse != 1) ++c.misoriented;
+          else if (uses.reverse != 1) ++c.misoriented;
           else continue;
-          c.note(mesh.positions[a]);
+          c.note(mesh.positions[t[k]]);
         }
       }
     });

@@ -35,6 +35,34 @@ public:
     return {face_list_.data() + offsets_[v], face_list_.data() + offsets_[v + 1]};
   }
 
+  /// How the other faces around the edge of half-edge h use it: `reverse` of them run it the other way
+  /// (`opposite` is the last one's half-edge), `same` run it the same way, and `lowest` is the smallest
+  /// of their half-edges on it (kInvalidIndex when none). Faces for which skip(face) is true are left
+  /// out.
+  struct EdgeUses {
+    int reverse = 0, same = 0;
+    Index opposite = kInvalidIndex, lowest = kInvalidIndex;
+  };
+  template <class Skip> [[nodiscard]] EdgeUses edge_uses(Index h, Skip&& skip) const {
+    const Index f = h / 3, a = from_vertex(h), b = to_vertex(h);
+    EdgeUses uses;
+    for (Index g : faces_of(b)) {
+      if (g == f || skip(g)) continue;
+      const Triangle& t = mesh_.triangles[g];
+      // Where b sits in g; then b -> a follows it, or a -> b precedes it.
+      const Index k = t[0] == b ? 0 : (t[1] == b ? 1 : 2);
+      Index on_edge = kInvalidIndex;
+      if (t[(k + 1) % 3] == a) {
+        ++uses.reverse;
+        uses.opposite = on_edge = 3 * g + k;
+      } else if (t[(k + 2) % 3] == a) {
+        ++uses.same;
+        on_edge = 3 * g + (k + 2) % 3;
+      }
+      if (on_edge < uses.lowest) uses.lowest = on_edge;
+    }
+    return uses;
+  }
   /// The opposite half-edge, or kInvalidIndex when the edge is not manifold (see above).
   [[nodiscard]] Index opposite(Index h) const;
 
