@@ -8,6 +8,7 @@
 #include "st/core/aabb_tree.h"
 #include "st/core/closest_point.h"
 #include "st/core/ray_triangle.h"
+#include "st/io/mesh_io.h"
 
 #include <gtest/gtest.h>
 
@@ -16,6 +17,7 @@
 #include <limits>
 #include <random>
 #include <set>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -61,6 +63,38 @@ TEST(AabbTree, ClosestPointsEqualBruteForceFarFromTheOrigin) {
       EXPECT_EQ(found->distance, best) << "at (" << p.transpose() << ")";
     }
   }
+}
+
+// The slab bounds only pass over nodes: the closest points over them are the brute force's, for
+// points off the surface along its normals (where the slabs open few nodes), random points, points
+// on vertices, on a wavy grid, a flat one (slabs of no thickness), a sphere and a real scan.
+TEST(AabbTree, ClosestPointsOverSlabsEqualBruteForce) {
+  std::vector<TriangleMesh> all = meshes();
+  all.push_back(make_grid_patch(30, -3.0, 3.0, -3.0, 3.0, [](double u, double v) { return Vec3(u, v, 2.0); }));
+  all.push_back(read_mesh(test::examples_dir() + "/meshes/vertebrae_lumbar_L2-L5_ssm_mean.stl.gz"));
+  for (const TriangleMesh& mesh : all) {
+    const AabbTree tree(mesh);
+    const AabbTree::Slabs slabs = tree.slabs();
+    std::vector<Vec3> points = probes(mesh, 200, 11);
+    const std::vector<Vec3> normals = vertex_normals(mesh);
+    for (Index v = 0; v < mesh.vertex_count(); v += std::max<Index>(1, mesh.vertex_count() / 300))
+      for (const double off : {0.05, 0.3, 2.5, -0.3}) points.push_back(mesh.positions[v] + off * normals[v]);
+    for (const Vec3& p : points) {
+      double best = std::numeric_limits<double>::infinity();
+      for (const Triangle& t : mesh.triangles)
+        best = std::min(
+            best, (closest_point_on_triangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]) - p)
+                      .norm());
+      const auto found =
+          tree.closest_point(p, std::numeric_limits<double>::infinity(), slabs, [](Index, double) { return false; });
+      ASSERT_TRUE(found.has_value());
+      EXPECT_EQ(found->distance, best) << "at (" << p.transpose() << ")";
+    }
+  }
+  const AabbTree other(meshes()[0]);
+  EXPECT_THROW(
+      (void)AabbTree(meshes()[1]).closest_point(Vec3::Zero(), 1.0, other.slabs(), [](Index, double) { return false; }),
+      std::logic_error);
 }
 
 TEST(AabbTree, FirstHitsAndBoxesEqualBruteForceFarFromTheOrigin) {

@@ -3,6 +3,7 @@
 
 #include "helpers.h"
 
+#include "st/core/errors.h"
 #include "st/validate/validate.h"
 
 #include <gtest/gtest.h>
@@ -63,6 +64,34 @@ TEST(SolidCheck, CountsAFaceAddedAcrossTwoEdges) {
   const SolidReport r = check_solid(sphere);
   EXPECT_EQ(r.nonmanifold_edges, 3u) << r.summary();
   EXPECT_EQ(r.misoriented_edges, 0u);
+}
+
+// A near vertex per point (the one it was moved from) only shortens the search: the same distances
+// as without, a point on its vertex at 0; at a clearance and at the template's thickness; with
+// vertices that are not near at all; and a list of the wrong length refused.
+TEST(DistancesToSurface, NearVerticesGiveTheSameDistances) {
+  const TriangleMesh sphere = make_icosphere(10.0, 4);
+  const std::vector<Vec3> normals = vertex_normals(sphere);
+  std::vector<Index> own(sphere.vertex_count()), far(sphere.vertex_count());
+  for (Index v = 0; v < sphere.vertex_count(); ++v) {
+    own[v] = v;
+    far[v] = (v * 7919u) % sphere.vertex_count();
+  }
+  for (const double off : {0.0, 0.1, 2.5, -1.0}) {
+    std::vector<Vec3> points = sphere.positions;
+    for (Index v = 0; v < sphere.vertex_count(); ++v) points[v] += off * normals[v];
+    const DistanceStats plain = distances_to_surface(points, sphere);
+    for (const std::vector<Index>* near : {&own, &far}) {
+      const DistanceStats hinted = distances_to_surface(points, sphere, *near);
+      EXPECT_EQ(hinted.min, plain.min) << off;
+      EXPECT_EQ(hinted.max, plain.max) << off;
+      EXPECT_EQ(hinted.mean, plain.mean) << off;
+    }
+    if (off == 0.0) EXPECT_EQ(plain.max, 0.0);
+  }
+  EXPECT_THROW(distances_to_surface(sphere.positions, sphere, std::vector<Index>{0, 1}), InvalidInput);
+  std::vector<Index> beyond(sphere.vertex_count(), sphere.vertex_count());
+  EXPECT_THROW(distances_to_surface(sphere.positions, sphere, beyond), InvalidInput);
 }
 
 } // namespace

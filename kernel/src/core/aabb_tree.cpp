@@ -11,6 +11,7 @@
 #include <limits>
 #include <numeric>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 
 namespace st {
@@ -159,7 +160,45 @@ Index AabbTree::build(const std::vector<std::uint64_t>& codes, Index begin, Inde
   node.box.extend(nodes_[right].box);
   node.left = left;
   node.right = right;
+  node.begin = begin; // the range under it, for slabs()
+  node.end = end;
   return id;
+}
+
+AabbTree::Slabs AabbTree::slabs() const {
+  Slabs out;
+  out.per_node.resize(nodes_.size());
+  detail::parallel_for(nodes_.size(), 4096, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t id = begin; id < end; ++id) {
+      const Node& n = nodes_[id];
+      if (n.end - n.begin > Slabs::kMaxFaces) continue;
+      Vec3 sum = Vec3::Zero();
+      for (Index i = n.begin; i < n.end; ++i) {
+        const Triangle& t = mesh_.triangles[faces_[i]];
+        sum += (mesh_.positions[t[1]] - mesh_.positions[t[0]]).cross(mesh_.positions[t[2]] - mesh_.positions[t[0]]);
+      }
+      const double length = sum.norm();
+      if (!(length > 0.0) || !std::isfinite(length)) continue; // no plane: the box alone bounds it
+      Slab& slab = out.per_node[id];
+      slab.normal = sum / length;
+      slab.centre =
+          Vec3(0.5 * (double(n.box.min[0]) + double(n.box.max[0])), 0.5 * (double(n.box.min[1]) + double(n.box.max[1])),
+               0.5 * (double(n.box.min[2]) + double(n.box.max[2])));
+      double height = 0.0, radius2 = 0.0;
+      for (Index i = n.begin; i < n.end; ++i)
+        for (const Index v : mesh_.triangles[faces_[i]]) {
+          const Vec3 d = mesh_.positions[v] - slab.centre;
+          const double h = slab.normal.dot(d);
+          height = std::max(height, std::abs(h));
+          radius2 = std::max(radius2, d.squaredNorm() - h * h);
+        }
+      // Grown a little so that rounding never puts a corner outside it.
+      slab.half_thickness = height * (1.0 + 1e-9) + 1e-12;
+      slab.radius = std::sqrt(std::max(radius2, 0.0)) * (1.0 + 1e-9) + 1e-12;
+      slab.valid = true;
+    }
+  });
+  return out;
 }
 
 AabbTree::AreaNormal AabbTree::area_normal_near(const Vec3& p, double radius) const {
@@ -177,8 +216,8 @@ AabbTree::AreaNormal AabbTree::area_normal_near(const Vec3& p, double radius) co
   return out;
 }
 
-template <class Beyond>
-std::optional<ClosestPoint> AabbTree::nearest(const Vec3& p, double max_distance, const Beyond& beyond) const {
+template <class Beyond> std::optional<ClosestPoint> AabbTree::nearest(const Vec3& p, double max_distance,
+                                                                      const Beyond& beyond, const Slabs* slabs) const {
   if (nodes_.empty()) return std::nullopt;
   double best = max_distance * max_distance;
   ClosestPoint result;
@@ -188,8 +227,10 @@ std::optional<ClosestPoint> AabbTree::nearest(const Vec3& p, double max_distance
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {
-    const Node& n = nodes_[stack[--top]];
+    const Index id = stack[--top];
+    const Node& n = nodes_[id];
     if (box_distance_squared(n.box.min, n.box.max, p) > best) continue;
+    if (slabs && slabs->per_node[id].beyond(p, best)) continue;
     if (n.left == kInvalidIndex) {
       for (Index i = n.begin; i < n.end; ++i) {
         if (beyond(faces_[i], best)) continue;
@@ -222,12 +263,19 @@ std::optional<ClosestPoint> AabbTree::nearest(const Vec3& p, double max_distance
 }
 
 std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_distance) const {
-  return nearest(p, max_distance, [](Index, double) { return false; });
+  return nearest(
+      p, max_distance, [](Index, double) { return false; }, nullptr);
 }
 
 std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_distance,
                                                     const std::function<bool(Index, double)>& beyond) const {
-  return nearest(p, max_distance, beyond);
+  return nearest(p, max_distance, beyond, nullptr);
+}
+
+std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_distance, const Slabs& slabs,
+                                                    const std::function<bool(Index, double)>& beyond) const {
+  if (slabs.per_node.size() != nodes_.size()) throw std::logic_error("AabbTree: slabs of another tree");
+  return nearest(p, max_distance, beyond, &slabs);
 }
 
 template <class Leaf> bool AabbTree::along(const Vec3& origin, const Vec3& direction, double t_min, const double& t_max,

@@ -215,7 +215,11 @@ double contact_reach(const TemplateOptions& options, double resolution) {
 
 TemplateFit measure_fit(const AnalysisInputs& in) {
   TemplateFit fit;
-  fit.inner_to_bone = distances_to_surface(in.inner.positions, in.bone_region);
+  // The inner surface's vertices were moved from the region's (numbered alike where block-out and
+  // skirt left them): each one's source bounds its search, and at zero clearance is its closest point.
+  std::vector<Index> source(in.inner.vertex_count(), kInvalidIndex);
+  for (Index v = 0; v < std::min(in.inner.vertex_count(), in.bone_region.vertex_count()); ++v) source[v] = v;
+  fit.inner_to_bone = distances_to_surface(in.inner.positions, in.bone_region, source);
   fit.outer_to_inner = distances_to_surface(in.outer, in.inner);
   DistanceStats rim;
   rim.min = std::numeric_limits<double>::infinity();

@@ -33,25 +33,59 @@ using namespace guide_detail;
 using detail::Clock;
 using detail::seconds_since;
 
-// Faces of `mesh` that may come within `radius` of the tube's axis between heights z0 and z1: their
-// box meets the segment's box, and the ball around their box meets the segment grown by the radius
-// (a long tilted axis has a large box; the ball test keeps the faces near the axis only).
-std::vector<Index> faces_around(const TriangleMesh& mesh, const TubeSpec& tube, double radius, double z0, double z1) {
-  const Vec3 a = tube_point(tube, z0), b = tube_point(tube, z1);
-  BoundingBox box;
-  box.extend(a);
-  box.extend(b);
-  box = box.inflated(radius);
-  const Vec3 ab = b - a;
-  const double length2 = ab.squaredNorm();
-  std::vector<Index> faces;
+// The stretch of a tube's axis whose template faces place() looks at: from `above` over the ray
+// starts down to the rays' reach.
+struct AxisStretch {
+  double start = 0.0; // where the rays start (over the sleeve's top, by the bore margin)
+  double reach = 0.0; // how far down they look
+  double above = 0.0; // how far up a ray starting in the template looks
+};
+
+AxisStretch axis_stretch(const TubeSpec& tube, const GuideOptions& options) {
+  AxisStretch s;
+  // Rays start above the sleeve and look for the template as far below the entry as the sleeve is
+  // wide (steep bone) plus a margin.
+  s.start = tube.offset + tube.length + options.bore_margin;
+  s.reach = s.start + 3.0 * tube.outer_radius + 20.0;
+  s.above = 3.0 * tube.outer_radius + 20.0;
+  return s;
+}
+
+// Per tube, the faces of `mesh` that may come within its outer radius of its axis stretch: their box
+// meets the stretch's box, and the ball around their box meets the stretch grown by the radius (a
+// long tilted axis has a large box; the ball test keeps the faces near the axis only). One pass over
+// the mesh for all tubes.
+std::vector<std::vector<Index>> faces_around(const TriangleMesh& mesh, const std::vector<TubeSpec>& tubes,
+                                             const GuideOptions& options) {
+  struct Reach {
+    Vec3 a, ab;
+    double length2, radius;
+    BoundingBox box;
+  };
+  std::vector<Reach> reaches;
+  BoundingBox all;
+  for (const TubeSpec& tube : tubes) {
+    const AxisStretch s = axis_stretch(tube, options);
+    const Vec3 a = tube_point(tube, s.start + s.above), b = tube_point(tube, s.start - s.reach);
+    BoundingBox box;
+    box.extend(a);
+    box.extend(b);
+    reaches.push_back({a, b - a, (b - a).squaredNorm(), tube.outer_radius, box.inflated(tube.outer_radius)});
+    all.extend(reaches.back().box);
+  }
+  std::vector<std::vector<Index>> faces(tubes.size());
   for (Index f = 0; f < mesh.face_count(); ++f) {
     const BoundingBox fb = triangle_box(mesh, f);
-    if (!fb.overlaps(box)) continue;
+    if (!fb.overlaps(all)) continue;
     const Vec3 c = fb.center();
-    const double t = length2 > 0.0 ? std::clamp((c - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-    const double reach = radius + 0.5 * fb.size().norm();
-    if ((c - (a + t * ab)).squaredNorm() <= reach * reach) faces.push_back(f);
+    const double half = 0.5 * fb.size().norm();
+    for (std::size_t i = 0; i < reaches.size(); ++i) {
+      const Reach& r = reaches[i];
+      if (!fb.overlaps(r.box)) continue;
+      const double t = r.length2 > 0.0 ? std::clamp((c - r.a).dot(r.ab) / r.length2, 0.0, 1.0) : 0.0;
+      const double reach = r.radius + half;
+      if ((c - (r.a + t * r.ab)).squaredNorm() <= reach * reach) faces[i].push_back(f);
+    }
   }
   return faces;
 }
@@ -62,7 +96,9 @@ struct Sample {
   std::optional<double> enter, exit; // heights where the ray enters and leaves the template
 };
 
-TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const GuideOptions& options) {
+// `near`: the faces of `shell` around the tube's axis stretch (faces_around).
+TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, std::vector<Index> near,
+                    const GuideOptions& options) {
   TubePlacement p;
   p.name = tube.name;
   p.kind = tube.kind;
@@ -72,15 +108,12 @@ TubePlacement place(const TubeSpec& tube, const TriangleMesh& shell, const Guide
   const Vec3 axis = tube_axis(tube);
   Vec3 u, v;
   orthonormal_frame(axis, u, v);
-  // Rays start above the sleeve and look for the template as far below the entry as the sleeve is
-  // wide (steep bone) plus a margin.
-  const double start = p.sleeve_top + options.bore_margin;
-  const double reach = start + 3.0 * tube.outer_radius + 20.0;
+  const AxisStretch stretch = axis_stretch(tube, options);
+  const double start = stretch.start, reach = stretch.reach, above = stretch.above;
   auto origin_of = [&](const Sample& s) -> Vec3 { // a Vec3, not an Eigen expression of temporaries
     return tube_point(tube, start) + s.radius * (std::cos(s.angle) * u + std::sin(s.angle) * v);
   };
-  const double above = 3.0 * tube.outer_radius + 20.0; // how far up a ray starting in the template looks
-  const AabbTree tree(shell, faces_around(shell, tube, tube.outer_radius, start + above, start - reach));
+  const AabbTree tree(shell, std::move(near));
   std::vector<Sample> samples;
   double roof = -std::numeric_limits<double>::infinity(); // the template's top over the bore, when above `start`
   constexpr int kAround = 16;
@@ -404,7 +437,9 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
     note(r);
     all = r.mesh;
   };
-  for (const TubeSpec& tube : tubes) result.tubes.push_back(place(tube, shell, options));
+  std::vector<std::vector<Index>> around = faces_around(shell, tubes, options);
+  for (std::size_t i = 0; i < tubes.size(); ++i)
+    result.tubes.push_back(place(tubes[i], shell, std::move(around[i]), options));
   for (const SlotSpec& slot : slots) result.slots.push_back(place_slot(slot, shell, options));
   std::vector<LaidLabel> labels;
   const LabelObstacles obstacles{tubes, result.tubes, slots, result.slots};

@@ -2,6 +2,7 @@
 
 #include "detail/parallel.h"
 #include "st/core/aabb_tree.h"
+#include "st/core/errors.h"
 #include "st/core/topology.h"
 #include "st/boolean/triangle_intersection.h"
 
@@ -199,10 +200,17 @@ std::vector<FaceDisc> face_discs(const TriangleMesh& surface) {
 
 } // namespace
 
-DistanceStats distances_to_surface(const std::vector<Vec3>& points, const TriangleMesh& surface) {
+DistanceStats distances_to_surface(const std::vector<Vec3>& points, const TriangleMesh& surface,
+                                   const std::vector<Index>& near_vertex) {
   DistanceStats s;
   if (points.empty() || surface.empty()) return s;
+  if (!near_vertex.empty() && near_vertex.size() != points.size())
+    throw InvalidInput("distances to a surface: one near vertex per point, or none");
+  for (const Index v : near_vertex)
+    if (v != kInvalidIndex && v >= surface.vertex_count())
+      throw InvalidInput("distances to a surface: a near vertex the surface does not have");
   const AabbTree tree(surface);
+  const AabbTree::Slabs slabs = tree.slabs();
   const std::vector<FaceDisc> discs = face_discs(surface);
   // Per chunk of points on all threads, summed in chunk order (the same result on any machine).
   constexpr std::size_t kGrain = 1024;
@@ -224,11 +232,20 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
         const double lateral = std::max(0.0, std::sqrt(std::max(0.0, v.squaredNorm() - h * h)) - d.radius);
         return (h * h + lateral * lateral) * (1.0 - 1e-9) > best;
       };
-      std::optional<ClosestPoint> near;
-      if (last) near = tree.closest_point(p, (p - *last).norm() * (1.0 + 1e-9), beyond);
-      if (!near) near = tree.closest_point(p, std::numeric_limits<double>::infinity(), beyond);
-      last = near->point;
-      const double d = near->distance;
+      // Bounds from above: the previous point's closest point and the near vertex, both on the surface.
+      double bound = last ? (p - *last).norm() : std::numeric_limits<double>::infinity();
+      const Index v = near_vertex.empty() ? kInvalidIndex : near_vertex[i];
+      if (v != kInvalidIndex) bound = std::min(bound, (p - surface.positions[v]).norm());
+      double d = 0.0;
+      if (bound == 0.0) {
+        last = p; // on the surface
+      } else {
+        std::optional<ClosestPoint> near;
+        if (std::isfinite(bound)) near = tree.closest_point(p, bound * (1.0 + 1e-9), slabs, beyond);
+        if (!near) near = tree.closest_point(p, std::numeric_limits<double>::infinity(), slabs, beyond);
+        last = near->point;
+        d = near->distance;
+      }
       c.min = std::min(c.min, d);
       c.max = std::max(c.max, d);
       c.mean += d; // the sum, for now
