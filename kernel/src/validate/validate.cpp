@@ -206,9 +206,17 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
   if (points.empty() || surface.empty()) return s;
   if (!near_vertex.empty() && near_vertex.size() != points.size())
     throw InvalidInput("distances to a surface: one near vertex per point, or none");
-  for (const Index v : near_vertex)
+  bool all_on_vertices = !near_vertex.empty();
+  for (std::size_t i = 0; i < near_vertex.size(); ++i) {
+    const Index v = near_vertex[i];
     if (v != kInvalidIndex && v >= surface.vertex_count())
       throw InvalidInput("distances to a surface: a near vertex the surface does not have");
+    all_on_vertices = all_on_vertices && v != kInvalidIndex && points[i] == surface.positions[v];
+  }
+  if (all_on_vertices) { // each point is its own closest point (the inner surface at zero clearance)
+    s.count = points.size();
+    return s;
+  }
   const AabbTree tree(surface);
   const AabbTree::Slabs slabs = tree.slabs();
   const std::vector<FaceDisc> discs = face_discs(surface);
