@@ -4,10 +4,18 @@
 #include "helpers.h"
 
 #include "st/core/errors.h"
+#include "st/boolean/triangle_intersection.h"
+#include "st/core/topology.h"
 #include "st/validate/validate.h"
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <functional>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <random>
 #include <utility>
 
 namespace st {
@@ -92,6 +100,102 @@ TEST(DistancesToSurface, NearVerticesGiveTheSameDistances) {
   EXPECT_THROW(distances_to_surface(sphere.positions, sphere, std::vector<Index>{0, 1}), InvalidInput);
   std::vector<Index> beyond(sphere.vertex_count(), sphere.vertex_count());
   EXPECT_THROW(distances_to_surface(sphere.positions, sphere, beyond), InvalidInput);
+}
+
+// A cube of n x n squares a side (corners welded), flat faces: the coplanar neighbours a fold makes.
+TriangleMesh subdivided_cube(int n) {
+  TriangleMesh out;
+  std::map<std::array<double, 3>, Index> index;
+  auto add_side = [&](const std::function<Vec3(double, double)>& map) {
+    const TriangleMesh side = test::make_grid_patch(n, 0.0, 1.0, 0.0, 1.0, map);
+    for (const Triangle& t : side.triangles) {
+      Triangle w;
+      for (int k = 0; k < 3; ++k) {
+        const Vec3& p = side.positions[t[k]];
+        const auto [it, added] = index.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, out.vertex_count());
+        if (added) out.positions.push_back(p);
+        w[k] = it->second;
+      }
+      out.triangles.push_back(w);
+    }
+  };
+  // Each side's normal, d/du x d/dv, points out of the unit cube.
+  add_side([](double u, double v) { return Vec3(v, u, 0.0); });
+  add_side([](double u, double v) { return Vec3(u, v, 1.0); });
+  add_side([](double u, double v) { return Vec3(u, 0.0, v); });
+  add_side([](double u, double v) { return Vec3(v, 1.0, u); });
+  add_side([](double u, double v) { return Vec3(0.0, v, u); });
+  add_side([](double u, double v) { return Vec3(1.0, u, v); });
+  return out;
+}
+
+// The pairs of faces that cross, by testing every pair.
+std::size_t crossing_pairs(const TriangleMesh& mesh) {
+  std::size_t count = 0;
+  for (Index a = 0; a < mesh.face_count(); ++a)
+    for (Index b = a + 1; b < mesh.face_count(); ++b) {
+      const Triangle &ta = mesh.triangles[a], &tb = mesh.triangles[b];
+      const std::array<Vec3, 3> pa{mesh.positions[ta[0]], mesh.positions[ta[1]], mesh.positions[ta[2]]};
+      const std::array<Vec3, 3> pb{mesh.positions[tb[0]], mesh.positions[tb[1]], mesh.positions[tb[2]]};
+      count += mesh_triangles_intersect(ta, pa, tb, pb) ? 1 : 0;
+    }
+  return count;
+}
+
+// The check passes over the pairs of faces around a corner whose fan is a height field; everything
+// else it tests. Its count equals testing every pair, on a sphere and a flat-faced cube, with corners
+// pushed through the surface, folded over their fans (in the cube's plane too: coplanar overlaps),
+// dragged onto a neighbour (exact positions) and moved at random.
+TEST(SolidCheck, CountsTheCrossingsThatTestingEveryPairFinds) {
+  SolidOptions all;
+  all.max_reported = std::numeric_limits<std::size_t>::max();
+  std::mt19937 rng(5);
+  int with_crossings = 0;
+  for (const TriangleMesh& base : {make_icosphere(10.0, 3), subdivided_cube(8)}) {
+    const TriangleMesh topology_copy = base;
+    const MeshTopology topology(topology_copy);
+    const std::vector<Vec3> normals = vertex_normals(base);
+    const BoundingBox box = bounding_box(base);
+    for (int trial = 0; trial < 12; ++trial) {
+      TriangleMesh mesh = base;
+      std::uniform_int_distribution<Index> pick(0, base.vertex_count() - 1);
+      const Index v = pick(rng);
+      const Index w = base.triangles[topology.faces_of(v)[0]][0] == v ? base.triangles[topology.faces_of(v)[0]][1]
+                                                                      : base.triangles[topology.faces_of(v)[0]][0];
+      const Vec3 along = base.positions[w] - base.positions[v];
+      switch (trial % 4) {
+      case 0: mesh.positions[v] -= 1.5 * box.size().maxCoeff() * normals[v]; break; // through the surface
+      case 1: mesh.positions[v] += 2.5 * along; break;                              // folded over its fan
+      case 2: mesh.positions[v] = base.positions[w]; break;                         // onto a neighbour
+      default: {
+        std::normal_distribution<double> jitter(0.0, 0.02 * box.size().maxCoeff());
+        for (Vec3& p : mesh.positions) p += Vec3(jitter(rng), jitter(rng), jitter(rng));
+      }
+      }
+      const SolidReport r = check_solid(mesh, all);
+      if (r.degenerate_triangles > 0) continue; // the check stops before the pairs then
+      const std::size_t expected = crossing_pairs(mesh);
+      EXPECT_EQ(r.self_intersections, expected) << "trial " << trial << ", " << r.summary();
+      with_crossings += expected > 0;
+    }
+  }
+  EXPECT_GE(with_crossings, 8); // the trials do make crossings
+  // A fan whose every face turns the same way about its centre but which winds around it twice,
+  // climbing and coming back down: its two layers cross.
+  TriangleMesh twice;
+  twice.positions.push_back(Vec3::Zero());
+  constexpr int kAround = 9; // 80 degrees a face
+  for (int i = 0; i < kAround; ++i) {
+    const double angle = 4.0 * std::numbers::pi * i / kAround;
+    const double radius = 1.0 + 0.1 * (i % 3);
+    twice.positions.emplace_back(radius * std::cos(angle), radius * std::sin(angle), 0.3 * std::cos(0.5 * angle));
+  }
+  for (Index i = 0; i < kAround; ++i) twice.triangles.push_back({0, 1 + i, 1 + (i + 1) % kAround});
+  const std::size_t layered = crossing_pairs(twice);
+  EXPECT_GT(layered, 0u);
+  EXPECT_EQ(check_solid(twice, all).self_intersections, layered);
+  EXPECT_EQ(check_solid(subdivided_cube(8)).self_intersections, 0u);
+  EXPECT_TRUE(check_solid(subdivided_cube(8)).valid()) << check_solid(subdivided_cube(8)).summary();
 }
 
 } // namespace

@@ -3,14 +3,18 @@
 #include "detail/parallel.h"
 #include "st/core/aabb_tree.h"
 #include "st/core/errors.h"
+#include "st/core/predicates.h"
 #include "st/core/topology.h"
 #include "st/boolean/triangle_intersection.h"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <optional>
+#include <span>
 #include <sstream>
 #include <unordered_map>
 #include <utility>
@@ -39,6 +43,44 @@ std::string SolidReport::summary() const {
   }
   return s.str();
 }
+
+namespace {
+
+// Whether the closed fan of faces `around` v (one walk reaches them all) projects one to one onto the
+// axis plane most across it: every face, projected, turns the same way about v, and the edges
+// opposite v (a closed cycle) wind once around it, so that the projected faces tile the turn about v
+// once. The fan is then the graph of a function over that plane, and two of its faces meet only
+// where they share a corner or an edge. Exact (orient2d on coordinates dropped, not rounded).
+bool star_fan(const TriangleMesh& mesh, Index v, std::span<const Index> around) {
+  Vec3 sum = Vec3::Zero();
+  for (const Index f : around) sum += triangle_normal(mesh, f);
+  int axis = 0;
+  sum.cwiseAbs().maxCoeff(&axis);
+  if (sum[axis] == 0.0) return false;
+  const int turn = sum[axis] > 0.0 ? 1 : -1;
+  auto projected = [&](Index w) {
+    const Vec3& p = mesh.positions[w];
+    return std::array<double, 2>{p[(axis + 1) % 3], p[(axis + 2) % 3]};
+  };
+  const std::array<double, 2> c = projected(v);
+  int winding = 0;
+  for (const Index f : around) {
+    const Triangle& t = mesh.triangles[f];
+    const int k = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+    const std::array<double, 2> a = projected(t[(k + 1) % 3]), b = projected(t[(k + 2) % 3]);
+    const int o = orient2d(c.data(), a.data(), b.data());
+    if (o != turn) return false;
+    // The edge a -> b across the half-line from c along +x (Sunday's crossing rule; exact).
+    if (a[1] <= c[1]) {
+      if (b[1] > c[1] && orient2d(a.data(), b.data(), c.data()) > 0) ++winding;
+    } else if (b[1] <= c[1] && orient2d(a.data(), b.data(), c.data()) < 0) {
+      --winding;
+    }
+  }
+  return winding == turn;
+}
+
+} // namespace
 
 SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
   SolidReport r;
@@ -106,7 +148,9 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
   }
 
   // Vertex fans: one walk around each vertex through manifold edges must reach all of its faces.
+  // A closed fan that is a height field over an axis plane (star_fan) cannot cross itself.
   r.components = component_count(mesh, opp);
+  std::vector<std::uint8_t> star(mesh.vertex_count(), 0);
   {
     const std::size_t vertices = mesh.vertex_count();
     std::vector<Found> chunks((vertices + kGrain - 1) / kGrain);
@@ -140,6 +184,8 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
         if (reached != around.size()) {
           ++c.fans;
           c.note(mesh.positions[v]);
+        } else if (closed_fan) {
+          star[v] = star_fan(mesh, v, around) ? 1 : 0;
         }
       }
     });
@@ -153,6 +199,16 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
     const std::vector<std::pair<Index, Index>> crossing = tree.overlapping_pairs([&](Index a, Index b) {
       const Triangle& ta = mesh.triangles[a];
       const Triangle& tb = mesh.triangles[b];
+      // Two faces of a star fan meet only where they share a corner or an edge (shared by both faces
+      // of the fan around each of its ends): nothing to test. Most pairs of a smooth surface are such.
+      int shared = 0;
+      bool at_star = false;
+      for (const Index u : ta)
+        if (u == tb[0] || u == tb[1] || u == tb[2]) {
+          ++shared;
+          at_star = at_star || star[u];
+        }
+      if (at_star && shared < 3) return false;
       const std::array<Vec3, 3> pa{mesh.positions[ta[0]], mesh.positions[ta[1]], mesh.positions[ta[2]]};
       const std::array<Vec3, 3> pb{mesh.positions[tb[0]], mesh.positions[tb[1]], mesh.positions[tb[2]]};
       return mesh_triangles_intersect(ta, pa, tb, pb);
