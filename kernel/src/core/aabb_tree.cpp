@@ -93,21 +93,29 @@ AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces) : mesh_(m
   }
   if (faces_.empty()) return;
   const std::size_t n = faces_.size();
-  std::vector<BoundingBox> boxes(n);
-  detail::parallel_for(n, 8192, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) boxes[i] = triangle_box(mesh, faces_[i]);
-  });
   // Morton codes of the boxes' centres on a grid of 2^21 cells a side over the centres' bounding cube.
+  // The boxes are recomputed where needed rather than kept (48 bytes a face, first touched: on a
+  // virtual machine that costs more than the arithmetic).
+  constexpr std::size_t kGrain = 8192;
+  std::vector<BoundingBox> chunk_centres((n + kGrain - 1) / kGrain);
+  detail::parallel_for(n, kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
+    BoundingBox& c = chunk_centres[begin / kGrain];
+    for (std::size_t i = begin; i < end; ++i)
+      if (const Vec3 centre = triangle_box(mesh, faces_[i]).center(); centre.allFinite()) c.extend(centre);
+  });
   BoundingBox centres;
-  for (const BoundingBox& b : boxes)
-    if (b.center().allFinite()) centres.extend(b.center());
+  for (const BoundingBox& c : chunk_centres)
+    if (c.valid()) {
+      centres.extend(c.min);
+      centres.extend(c.max);
+    }
   const double extent = centres.valid() ? centres.size().maxCoeff() : 0.0;
   constexpr double kCells = double((1 << 21) - 1);
   const double scale = extent > 0.0 ? kCells / extent : 0.0;
   std::vector<Keyed> keyed(n);
-  detail::parallel_for(n, 8192, [&](std::size_t, std::size_t begin, std::size_t end) {
+  detail::parallel_for(n, kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      const Vec3 c = boxes[i].center();
+      const Vec3 c = triangle_box(mesh, faces_[i]).center();
       std::uint64_t code = 0;
       for (int k = 0; k < 3; ++k) {
         const double q = (c[k] - centres.min[k]) * scale;
@@ -121,11 +129,13 @@ AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces) : mesh_(m
   std::vector<Index> sorted_faces(n);
   face_boxes_.resize(n);
   std::vector<std::uint64_t> codes(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    sorted_faces[i] = faces_[keyed[i].item];
-    face_boxes_[i] = FloatBox::around(boxes[keyed[i].item]);
-    codes[i] = keyed[i].code;
-  }
+  detail::parallel_for(n, kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      sorted_faces[i] = faces_[keyed[i].item];
+      face_boxes_[i] = FloatBox::around(triangle_box(mesh, sorted_faces[i]));
+      codes[i] = keyed[i].code;
+    }
+  });
   faces_ = std::move(sorted_faces);
   nodes_.reserve(2 * n);
   build(codes, 0, static_cast<Index>(n));
