@@ -34,6 +34,8 @@ class AabbTree {
 public:
   /// Tree over all triangles of `mesh`, or only over `faces` when given. Keeps a reference to mesh.
   explicit AabbTree(const TriangleMesh& mesh, std::vector<Index> faces = {});
+  /// A tree over a temporary mesh would outlive it.
+  AabbTree(TriangleMesh&&, std::vector<Index> = {}) = delete;
 
   [[nodiscard]] bool empty() const { return faces_.empty(); }
   [[nodiscard]] const TriangleMesh& mesh() const { return mesh_; }

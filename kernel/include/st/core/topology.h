@@ -25,6 +25,8 @@ class MeshTopology {
 public:
   /// Precondition: every index of `mesh` is < vertex_count (see check_mesh). Keeps a reference.
   explicit MeshTopology(const TriangleMesh& mesh);
+  /// Topology of a temporary mesh would outlive it.
+  MeshTopology(TriangleMesh&&) = delete;
 
   [[nodiscard]] const TriangleMesh& mesh() const { return mesh_; }
   [[nodiscard]] Index from_vertex(Index h) const { return mesh_.triangles[h / 3][h % 3]; }
