@@ -23,30 +23,37 @@ Polytope::Polytope(Eigen::Index m, double box) : m_(m) {
 }
 
 std::size_t Polytope::KeyHash::operator()(const Key& k) const noexcept {
-  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-  for (const int c : k) {
-    h ^= static_cast<std::uint64_t>(static_cast<std::uint32_t>(c)) + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
-    h *= 0xbf58476d1ce4e5b9ULL;
-  }
-  return static_cast<std::size_t>(h ^ (h >> 31));
+  // Independent products, summed, then mixed (the ids are small integers).
+  std::uint64_t h = static_cast<std::uint32_t>(k[0]) * 0x9e3779b97f4a7c15ULL +
+                    static_cast<std::uint32_t>(k[1]) * 0xbf58476d1ce4e5b9ULL +
+                    static_cast<std::uint32_t>(k[2]) * 0x94d049bb133111ebULL +
+                    static_cast<std::uint32_t>(k[3]) * 0xd6e8feb86659fd93ULL;
+  h ^= h >> 31;
+  h *= 0xbf58476d1ce4e5b9ULL;
+  return static_cast<std::size_t>(h ^ (h >> 29));
 }
 
 Polytope::Ends* Polytope::EdgeTable::find(const Key& key) {
   if (table_.empty()) return nullptr;
+  const std::uint64_t hash = KeyHash{}(key);
   const std::size_t mask = table_.size() - 1;
-  for (std::size_t i = home(key);; i = (i + 1) & mask) {
-    if (table_[i].key[0] < 0) return nullptr;
-    if (table_[i].key == key) return &table_[i].ends;
+  for (std::size_t i = hash & mask;; i = (i + 1) & mask) {
+    Entry& e = table_[i];
+    if (e.key[0] < 0) return nullptr;
+    if (e.hash == hash && same(e.key, key)) return &e.ends;
   }
 }
 
-Polytope::Ends& Polytope::EdgeTable::insert(const Key& key) {
+Polytope::Ends& Polytope::EdgeTable::insert(const Key& key) { return insert(key, KeyHash{}(key)); }
+
+Polytope::Ends& Polytope::EdgeTable::insert(const Key& key, std::uint64_t hash) {
   if (2 * (size_ + 1) > table_.size()) grow();
   const std::size_t mask = table_.size() - 1;
-  std::size_t i = home(key);
+  std::size_t i = hash & mask;
   for (; table_[i].key[0] >= 0; i = (i + 1) & mask)
-    if (table_[i].key == key) return table_[i].ends;
+    if (table_[i].hash == hash && same(table_[i].key, key)) return table_[i].ends;
   table_[i].key = key;
+  table_[i].hash = hash;
   table_[i].ends = {-1, -1};
   ++size_;
   return table_[i].ends;
@@ -54,9 +61,10 @@ Polytope::Ends& Polytope::EdgeTable::insert(const Key& key) {
 
 void Polytope::EdgeTable::erase(const Key& key) {
   if (table_.empty()) return;
+  const std::uint64_t hash = KeyHash{}(key);
   const std::size_t mask = table_.size() - 1;
-  std::size_t i = home(key);
-  for (; table_[i].key != key; i = (i + 1) & mask)
+  std::size_t i = hash & mask;
+  for (; !(table_[i].hash == hash && same(table_[i].key, key)); i = (i + 1) & mask)
     if (table_[i].key[0] < 0) return;
   // Backward shift: move up each later entry of the run whose home does not lie after the hole.
   for (std::size_t j = i;;) {
@@ -67,7 +75,7 @@ void Polytope::EdgeTable::erase(const Key& key) {
         --size_;
         return;
       }
-      const std::size_t k = home(table_[j].key);
+      const std::size_t k = table_[j].hash & mask;
       const bool stays = i <= j ? (i < k && k <= j) : (i < k || k <= j);
       if (!stays) break;
     }
@@ -86,7 +94,7 @@ void Polytope::EdgeTable::grow() {
   table_.assign(std::max<std::size_t>(1024, 2 * old.size()), Entry{});
   size_ = 0;
   for (const Entry& e : old)
-    if (e.key[0] >= 0) insert(e.key) = e.ends;
+    if (e.key[0] >= 0) insert(e.key, e.hash) = e.ends;
 }
 
 Polytope::Key Polytope::key_without(const Vertex& v, std::size_t skip) const {

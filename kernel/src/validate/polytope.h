@@ -45,7 +45,8 @@ private:
     std::size_t operator()(const Key& k) const noexcept;
   };
   using Ends = std::array<std::int32_t, 2>; // the slots of the (at most two) simple vertices at an edge
-  /// Edge key -> ends, open addressing with linear probing (no allocation per edge).
+  /// Edge key -> ends, open addressing with linear probing (no allocation per edge). Each entry keeps
+  /// its key's hash: probes compare it first, and erasing shifts entries without hashing them again.
   class EdgeTable {
   public:
     [[nodiscard]] Ends* find(const Key& key);
@@ -57,8 +58,12 @@ private:
     struct Entry {
       Key key{-1, -1, -1, -1}; // key[0] < 0: free (a key's first id is never negative)
       Ends ends{-1, -1};
+      std::uint64_t hash = 0;
     };
-    [[nodiscard]] std::size_t home(const Key& key) const { return KeyHash{}(key) & (table_.size() - 1); }
+    static bool same(const Key& a, const Key& b) {
+      return a[0] == b[0] && a[1] == b[1] && a[2] == b[2] && a[3] == b[3];
+    }
+    Ends& insert(const Key& key, std::uint64_t hash);
     void grow();
     std::vector<Entry> table_;
     std::size_t size_ = 0;

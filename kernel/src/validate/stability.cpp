@@ -42,6 +42,36 @@ MatX null_space(const MatX& m, double threshold = 1e-9) {
   return svd.matrixV().rightCols(n - rank);
 }
 
+/// The order the contacts cut the section in. The vertices a cut makes and a later one removes are
+/// the enumeration's cost; the final polytope is the same in any order. The rows farthest apart
+/// (contacts whose normals or moment arms differ most) first, by farthest-point selection from the
+/// first row, for up to 256 of them (a cost of 256 passes over the rows); the rest coarse to fine
+/// along the sampling order (every 16th, 4th, then all), so that nearby contacts come late.
+std::vector<std::size_t> cutting_order(const std::vector<Twist>& rows) {
+  const std::size_t n = rows.size();
+  std::vector<std::size_t> order;
+  order.reserve(n);
+  std::vector<char> taken(n, 0);
+  std::vector<double> gap(n, std::numeric_limits<double>::infinity()); // to the nearest row taken
+  for (std::size_t next = 0; n > 0 && order.size() < std::min<std::size_t>(n, 256);) {
+    order.push_back(next);
+    taken[next] = 1;
+    double farthest = -1.0;
+    for (std::size_t j = 0; j < n; ++j) {
+      if (taken[j]) continue;
+      gap[j] = std::min(gap[j], (rows[j] - rows[order.back()]).squaredNorm());
+      if (gap[j] > farthest) farthest = gap[j], next = j; // ties: the lowest index
+    }
+  }
+  for (const std::size_t stride : {16U, 4U, 1U})
+    for (std::size_t i = 0; i < n; i += stride)
+      if (!taken[i]) {
+        taken[i] = 1;
+        order.push_back(i);
+      }
+  return order;
+}
+
 Twist contact_row(const Contact& c, const Vec3& centroid, double scale) {
   Twist a;
   a.head<3>() = c.normal;
@@ -215,21 +245,17 @@ StabilityReport analyse_stability(const std::vector<Contact>& contacts, const Ve
     const VecX y0 = g;
     const MatX e = null_space(g.transpose()); // held.cols() x (held.cols() - 1), orthonormal
     stability_detail::Polytope p(e.cols(), options.box);
-    std::vector<char> done(rows.size(), 0);
     bool empty = false;
-    for (const std::size_t stride : {64U, 16U, 4U, 1U}) {
-      for (std::size_t i = 0; i < rows.size() && !empty; i += stride) {
-        if (done[i]) continue;
-        done[i] = 1;
-        const VecX b = held.transpose() * rows[i];
-        const VecX h = e.transpose() * b;
-        const double r = -b.dot(y0), hn = h.norm();
-        if (hn <= 1e-12) {
-          if (r > 1e-9) empty = true; // this contact blocks the whole section: nothing is free
-          continue;
-        }
-        if (!p.cut(h / hn, r / hn)) empty = true;
+    for (const std::size_t i : cutting_order(rows)) {
+      const VecX b = held.transpose() * rows[i];
+      const VecX h = e.transpose() * b;
+      const double r = -b.dot(y0), hn = h.norm();
+      if (hn <= 1e-12) {
+        if (r > 1e-9) empty = true; // this contact blocks the whole section: nothing is free
+      } else if (!p.cut(h / hn, r / hn)) {
+        empty = true;
       }
+      if (empty) break;
     }
     if (!empty)
       for (const VecX& z : p.vertices()) rays.push_back((y0 + e * z).normalized());
