@@ -53,7 +53,7 @@ std::vector<std::size_t> cutting_order(const std::vector<Twist>& rows) {
   order.reserve(n);
   std::vector<char> taken(n, 0);
   std::vector<double> gap(n, std::numeric_limits<double>::infinity()); // to the nearest row taken
-  for (std::size_t next = 0; n > 0 && order.size() < std::min<std::size_t>(n, 256);) {
+  for (std::size_t next = 0; order.size() < std::min<std::size_t>(n, 256);) {
     order.push_back(next);
     taken[next] = 1;
     double farthest = -1.0;
