@@ -281,6 +281,45 @@ TEST(Removal, APlateLiftsOffAPlaneAndCatchesOnALedge) {
   EXPECT_TRUE(check_removal(ledge_tree, box, Vec3(-1, 0, 0)).removable);
 }
 
+TEST(Removal, ABonePreparedOnceAnswersLikeAFreshOneInAnyOrder) {
+  // The shrunk bone is made vertex by vertex as the sweeps reach it: a SweepTest asked about several
+  // guides and directions answers each as a fresh check would. The plates rest on grid vertices of the
+  // plane (zero clearance: corners the guide copies) under a ledge, so every family has work.
+  TriangleMesh bone = test::make_height_field(-20, 20, -20, 20, 40, [](double, double) { return 0.0; });
+  const TriangleMesh ledge = test::make_height_field(2, 12, -3, 3, 4, [](double, double) { return 3.0; });
+  const Index n = bone.vertex_count();
+  bone.positions.insert(bone.positions.end(), ledge.positions.begin(), ledge.positions.end());
+  for (const Triangle& t : ledge.triangles) bone.triangles.push_back({t[0] + n, t[2] + n, t[1] + n});
+  auto plate = [](double x0, double y0) {
+    TriangleMesh box;
+    for (int k = 0; k < 8; ++k)
+      box.positions.emplace_back(x0 + (k & 1 ? 5.0 : -5.0), y0 + (k & 2 ? 5.0 : -5.0), k & 4 ? 2.0 : 0.0);
+    box.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                     {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    return box;
+  };
+  const AabbTree tree(bone);
+  const MeshTopology topology(bone);
+  const SweepTest sweep(tree, &topology);
+  int blocked = 0;
+  for (const Vec3 at : {Vec3(0, 0, 0), Vec3(-12, 8, 0), Vec3(7, 0, 0)})
+    for (const Vec3 d : {Vec3(0, 0, -1), Vec3(1, 0, 0), Vec3(-1, 0, -1), Vec3(0.3, -0.2, -1)}) {
+      const TriangleMesh guide = plate(at.x(), at.y());
+      const RemovalReport prepared = sweep(guide, d, 20.0);
+      const RemovalReport fresh = check_removal(tree, guide, d, 20.0);
+      EXPECT_EQ(prepared.removable, fresh.removable) << at.transpose() << " / " << d.transpose();
+      EXPECT_EQ(prepared.blocked_features, fresh.blocked_features);
+      EXPECT_EQ(prepared.blocked_faces, fresh.blocked_faces);
+      EXPECT_EQ(prepared.blocking, fresh.blocking);
+      blocked += prepared.removable ? 0 : 1;
+    }
+  EXPECT_GT(blocked, 0); // the ledge holds some of them
+  EXPECT_LT(blocked, 12);
+  // A topology of another mesh is refused.
+  const MeshTopology other(ledge);
+  EXPECT_THROW(static_cast<void>(SweepTest(tree, &other)), InvalidInput);
+}
+
 /// A closed octahedron of radius 5 about the origin.
 TriangleMesh octahedron() {
   TriangleMesh m;

@@ -204,7 +204,8 @@ struct AnalysisInputs {
   const TriangleMesh& bone_region; // the region as cut from the bone
   const std::vector<Vec3>& curve;  // the curve drawn on the bone
   const AabbTree* bone_tree;       // with the insertion analysis: for the stability and the removal
-  const SweepTest* sweep;          // the bone prepared for sweeps, when block-out made it
+  const MeshTopology& bone_topology;
+  const SweepTest* sweep; // the bone prepared for sweeps, when block-out made it
   const InsertionReport& insertion;
   double resolution;
 };
@@ -263,7 +264,7 @@ void analyse_removal(const AnalysisInputs& in, const TriangleMesh& guide, const 
   const auto t0 = Clock::now();
   const InsertionReport& ins = in.insertion;
   std::optional<SweepTest> own;
-  const SweepTest& sweep = in.sweep ? *in.sweep : own.emplace(*in.bone_tree);
+  const SweepTest& sweep = in.sweep ? *in.sweep : own.emplace(*in.bone_tree, &in.bone_topology);
   out.removal = sweep(guide, ins.direction, options.removal_distance, SweepStart::shrunk, &guide_tree);
   out.inner_area_mm2 = surface_area(in.inner);
   out.contact_area_mm2 = contact_area(in.inner, ins.filled, *in.bone_tree, contact_reach(options, in.resolution));
@@ -310,7 +311,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     result.times.insertion = seconds_since(t0);
     if (options.block_out && result.insertion.undercut_area_mm2 > 0.0) {
       t0 = Clock::now();
-      sweep.emplace(*bone_tree);
+      sweep.emplace(*bone_tree, &topology);
       BlockOutResult b =
           block_out(*sweep, bone_region, result.insertion.hidden, result.insertion.direction, options.removal_distance);
       InsertionReport& ins = result.insertion;
@@ -373,6 +374,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
                           bone_region,
                           curve.polyline,
                           options.analyse_insertion ? &*bone_tree : nullptr,
+                          topology,
                           sweep ? &*sweep : nullptr,
                           result.insertion,
                           result.resolution};

@@ -87,14 +87,37 @@ private:
 
 } // namespace
 
-SweepTest::SweepTest(const AabbTree& bone) : bone_(bone) {
+SweepTest::SweepTest(const AabbTree& bone, const MeshTopology* topology)
+    : bone_(bone), topology_(topology ? *topology : own_topology_.emplace(bone.mesh())) {
   const TriangleMesh& mesh = bone.mesh();
+  if (&topology_.mesh() != &mesh) throw InvalidInput("removal check: the topology is not the bone's");
   const BoundingBox box = bounding_box(mesh);
   const double magnitude = mesh.empty() ? 1.0 : std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
   lift_ = std::max(kContact_mm, std::ldexp(std::max(magnitude, 1.0), -20));
-  shrunk_ = mesh.positions;
-  const std::vector<Vec3> normals = vertex_normals(mesh);
-  for (std::size_t i = 0; i < shrunk_.size(); ++i) shrunk_[i] -= lift_ * normals[i];
+  shrunk_.reset(new Vec3[mesh.vertex_count()]); // left unwritten (untouched pages) until a vertex is read
+  state_ = std::make_unique<std::atomic<std::uint8_t>[]>(mesh.vertex_count());
+}
+
+const Vec3& SweepTest::shrunk(Index v) const {
+  constexpr std::uint8_t kMaking = 1, kMade = 2;
+  std::atomic<std::uint8_t>& state = state_[v];
+  if (state.load(std::memory_order_acquire) == kMade) return shrunk_[v];
+  std::uint8_t expected = 0;
+  if (state.compare_exchange_strong(expected, kMaking, std::memory_order_acquire)) {
+    // The vertex normal as vertex_normals() sums it: the faces around v in ascending order.
+    const TriangleMesh& mesh = bone_.mesh();
+    Vec3 n = Vec3::Zero();
+    for (Index f : topology_.faces_of(v)) n += triangle_normal(mesh, f);
+    if (const double len = n.norm(); len > 0.0) n /= len;
+    Vec3 p = mesh.positions[v];
+    p -= lift_ * n;
+    shrunk_[v] = p;
+    state.store(kMade, std::memory_order_release);
+  } else {
+    while (state.load(std::memory_order_acquire) != kMade) {
+    } // another thread is making it (a few hundred nanoseconds)
+  }
+  return shrunk_[v];
 }
 
 RemovalReport check_removal(const AabbTree& bone, const TriangleMesh& guide, const Vec3& direction, double distance,
@@ -121,7 +144,6 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
   if (guide.empty() || bone.empty()) return report;
   // The bone shrunk by `lift` along its vertex normals (see removal.h).
   const double lift = lift_;
-  const std::vector<Vec3>& b_at = shrunk_;
   std::vector<Vec3> g_at = guide.positions;
   {
     // The guide starts a lift along its way off; a part of the bone's surface is also raised off it.
@@ -129,7 +151,7 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
     for (std::size_t i = 0; i < g_at.size(); ++i)
       g_at[i] += lift * w + (gn.empty() ? Vec3::Zero() : Vec3(lift * gn[i]));
   }
-  auto bone_corner = [&](Index f, int k) -> const Vec3& { return b_at[bmesh.triangles[f][k]]; };
+  auto bone_corner = [&](Index f, int k) -> const Vec3& { return shrunk(bmesh.triangles[f][k]); };
 
   // Box culling: a guide face whose box, swept by L off the bone and grown by the lifts, meets no
   // bone triangle's box cannot meet the bone on the way off, nor can its corners and edges (their
@@ -174,45 +196,43 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
   reach.min.array() -= 1.0;
   reach.max.array() += 1.0;
   bone.for_each_in_box(reach, [&](Index f) { near_faces.push_back(f); });
+  // A bone vertex the guide copies (zero clearance, a rim through a bone vertex) touches the guide
+  // there; the faces and edges around it are tested by the other two families. The guide's vertices,
+  // in a table by a hash of their coordinates' bits (equal hashes compared exactly), tell those apart
+  // first: a face whose corners the guide all copies is passed before its (costlier) box test.
+  const std::size_t slots = std::bit_ceil(2 * static_cast<std::size_t>(guide.vertex_count()) + 16);
+  std::vector<Index> table(slots, kInvalidIndex);
+  auto hash = [&](const Vec3& p) {
+    std::uint64_t h = 0;
+    for (int k = 0; k < 3; ++k) h = mix(h ^ std::bit_cast<std::uint64_t>(p[k] == 0.0 ? 0.0 : p[k])); // -0 as 0
+    return static_cast<std::size_t>(h) & (slots - 1);
+  };
+  auto slot_of = [&](const Vec3& p) {
+    std::size_t s = hash(p);
+    while (table[s] != kInvalidIndex && guide.positions[table[s]] != p) s = (s + 1) & (slots - 1);
+    return s;
+  };
+  for (Index v = 0; v < guide.vertex_count(); ++v)
+    if (std::size_t s = slot_of(guide.positions[v]); table[s] == kInvalidIndex) table[s] = v;
+  auto copied = [&](Index v) { return table[slot_of(bmesh.positions[v])] != kInvalidIndex; };
   std::vector<std::uint8_t> meets(near_faces.size(), 0);
   detail::parallel_for(near_faces.size(), 1024, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i)
+    for (std::size_t i = begin; i < end; ++i) {
+      const Triangle& t = bmesh.triangles[near_faces[i]];
+      if (copied(t[0]) && copied(t[1]) && copied(t[2])) continue;
       meets[i] = guide_tree.any_in_box(swept(triangle_box(bmesh, near_faces[i]), L * d)) ? 1 : 0;
+    }
   });
   std::vector<Index> near;
   for (std::size_t i = 0; i < near_faces.size(); ++i)
     if (meets[i])
-      for (Index v : bmesh.triangles[near_faces[i]]) near.push_back(v);
+      for (Index v : bmesh.triangles[near_faces[i]])
+        if (!copied(v)) near.push_back(v);
   std::sort(near.begin(), near.end());
   near.erase(std::unique(near.begin(), near.end()), near.end());
-  // A bone vertex the guide copies (zero clearance, a rim through a bone vertex) touches the guide
-  // there; the faces and edges around it are tested by the other two families.
-  // The near bone vertices, sorted by a hash of their coordinates' bits, are looked up per guide
-  // vertex; equal hashes are compared exactly.
-  {
-    auto hash = [](const Vec3& p) {
-      std::uint64_t h = 0;
-      for (int k = 0; k < 3; ++k) h = mix(h ^ std::bit_cast<std::uint64_t>(p[k] == 0.0 ? 0.0 : p[k])); // -0 as 0
-      return h;
-    };
-    std::vector<std::pair<std::uint64_t, Index>> keyed(near.size());
-    for (std::size_t i = 0; i < near.size(); ++i) keyed[i] = {hash(bmesh.positions[near[i]]), static_cast<Index>(i)};
-    std::sort(keyed.begin(), keyed.end());
-    std::vector<std::uint8_t> copied(near.size(), 0);
-    for (const Vec3& p : guide.positions) {
-      const std::uint64_t h = hash(p);
-      for (auto it = std::lower_bound(keyed.begin(), keyed.end(), std::pair{h, Index{0}});
-           it != keyed.end() && it->first == h; ++it)
-        if (bmesh.positions[near[it->second]] == p) copied[it->second] = 1;
-    }
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < near.size(); ++i)
-      if (!copied[i]) near[kept++] = near[i];
-    near.resize(kept);
-  }
   detail::parallel_for(near.size(), 512, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      const Vec3 &p = b_at[near[i]], q = p + L * d;
+      const Vec3 &p = shrunk(near[i]), q = p + L * d;
       Index face = kInvalidIndex;
       guide_tree.any_along(p, d, L, 2.0 * lift, [&](Index f) {
         const Triangle& t = guide.triangles[f];

@@ -38,8 +38,12 @@
 
 #include "st/core/aabb_tree.h"
 #include "st/core/mesh.h"
+#include "st/core/topology.h"
 
+#include <atomic>
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <vector>
 
 namespace st {
@@ -61,15 +65,24 @@ enum class SweepStart { shrunk, raised };
 /// many meshes: the block-out asks it about each fill it makes.
 class SweepTest {
 public:
-  explicit SweepTest(const AabbTree& bone); ///< keeps a reference to the tree
+  /// Keeps a reference to the tree and to `topology`, the bone's faces around each vertex (built here
+  /// when null).
+  explicit SweepTest(const AabbTree& bone, const MeshTopology* topology = nullptr);
   /// check_removal(bone, mesh, direction, distance, start) with the bone prepared; `mesh_tree`, a
   /// tree over all of mesh's faces when the caller has one (built here when null).
   RemovalReport operator()(const TriangleMesh& mesh, const Vec3& direction, double distance,
                            SweepStart start = SweepStart::shrunk, const AabbTree* mesh_tree = nullptr) const;
 
 private:
+  /// Bone vertex v shrunk by the lift along its normal: made the first time a test reads it (on any
+  /// thread), so that a sweep costs what it reaches of the bone, not the whole bone.
+  const Vec3& shrunk(Index v) const;
+
   const AabbTree& bone_;
-  std::vector<Vec3> shrunk_;
+  std::optional<MeshTopology> own_topology_;
+  const MeshTopology& topology_;
+  std::unique_ptr<Vec3[]> shrunk_;                     // valid where state_ is kShrunk
+  std::unique_ptr<std::atomic<std::uint8_t>[]> state_; // per vertex: not made, being made, made
   double lift_ = 0.0;
 };
 
