@@ -1,5 +1,6 @@
 #include "st/core/topology.h"
 #include "detail/format.h"
+#include "detail/parallel.h"
 
 #include "st/core/errors.h"
 
@@ -27,7 +28,10 @@ Index MeshTopology::opposite(Index h) const {
 
 std::vector<Index> MeshTopology::all_opposites() const {
   std::vector<Index> opp(static_cast<std::size_t>(mesh_.face_count()) * 3);
-  for (Index h = 0; h < opp.size(); ++h) opp[h] = opposite(h);
+  // Each entry on its own: on all threads.
+  detail::parallel_for(opp.size(), 16384, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t h = begin; h < end; ++h) opp[h] = opposite(static_cast<Index>(h));
+  });
   return opp;
 }
 

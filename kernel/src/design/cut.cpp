@@ -37,13 +37,33 @@ constexpr signed char kLeft = 1, kRight = -1;
 void merge_close_rim_vertices(CutResult& r) {
   TriangleMesh& m = r.region;
   const double limit2 = tol::kMinCutDistance_mm * tol::kMinCutDistance_mm;
-  std::vector<std::vector<Index>> faces_of(m.vertex_count());
-  for (Index f = 0; f < m.face_count(); ++f)
-    for (Index v : m.triangles[f]) faces_of[v].push_back(f);
+  // Most rims have no such pair: nothing to merge, and nothing to index.
+  bool any_close = false;
+  for (std::size_t i = 0; i < r.rim.size() && !any_close; ++i)
+    any_close = (m.positions[r.rim[(i + 1) % r.rim.size()]] - m.positions[r.rim[i]]).squaredNorm() < limit2;
+  if (!any_close) return;
+  // The faces around each vertex: as the region has them (compressed rows), and those a merge moved
+  // onto it.
+  std::vector<Index> offsets(static_cast<std::size_t>(m.vertex_count()) + 1, 0), listed;
+  for (const Triangle& t : m.triangles)
+    for (Index v : t) ++offsets[v + 1];
+  std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
+  listed.resize(offsets.back());
+  {
+    std::vector<Index> fill(offsets.begin(), offsets.end() - 1);
+    for (Index f = 0; f < m.face_count(); ++f)
+      for (Index v : m.triangles[f]) listed[fill[v]++] = f;
+  }
+  std::vector<std::vector<Index>> moved_onto(m.vertex_count());
+  auto faces_of = [&](Index v) {
+    std::vector<Index> out(listed.begin() + offsets[v], listed.begin() + offsets[v + 1]);
+    out.insert(out.end(), moved_onto[v].begin(), moved_onto[v].end());
+    return out;
+  };
   std::vector<char> removed(m.face_count(), 0), gone(m.vertex_count(), 0);
   auto neighbours = [&](Index v) {
     std::vector<Index> out;
-    for (Index f : faces_of[v])
+    for (Index f : faces_of(v))
       if (!removed[f])
         for (Index w : m.triangles[f])
           if (w != v) out.push_back(w);
@@ -56,7 +76,7 @@ void merge_close_rim_vertices(CutResult& r) {
   };
   auto merge = [&](Index keep, Index drop) {
     std::vector<Index> between, moved;
-    for (Index f : faces_of[drop]) {
+    for (Index f : faces_of(drop)) {
       if (removed[f]) continue;
       const Triangle& t = m.triangles[f];
       (std::find(t.begin(), t.end(), keep) != t.end() ? between : moved).push_back(f);
@@ -76,7 +96,7 @@ void merge_close_rim_vertices(CutResult& r) {
     removed[between[0]] = 1;
     for (Index f : moved) {
       std::replace(m.triangles[f].begin(), m.triangles[f].end(), drop, keep);
-      faces_of[keep].push_back(f);
+      moved_onto[keep].push_back(f);
     }
     gone[drop] = 1;
     return true;
@@ -280,15 +300,15 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
 
   // 3. Assemble the region: whole faces of the kept side plus the kept parts of the cut faces.
   CutResult result;
-  std::unordered_map<Index, Index> new_index;
+  std::vector<Index> new_index(mesh.vertex_count(), kInvalidIndex);
   auto vertex = [&](Index v) {
-    auto [it, inserted] = new_index.try_emplace(v, static_cast<Index>(result.region.positions.size()));
-    if (inserted) {
+    if (new_index[v] == kInvalidIndex) {
+      new_index[v] = static_cast<Index>(result.region.positions.size());
       result.region.positions.push_back(mesh.positions[v]);
       result.source_vertex.push_back(v);
       result.source.push_back({{v, v}, 0.0});
     }
-    return it->second;
+    return new_index[v];
   };
   // Region vertices on the curve: cut vertices, and input vertices the curve passes through.
   std::vector<char> on_curve;
@@ -340,9 +360,9 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
       const Index x1 = cut_vertex(a, b), vb = vertex(b), vc = vertex(c), x2 = cut_vertex(c, a);
       // Through the dropped vertex a, the diagonal from the other crossing would run along an edge
       // (a flat triangle): take the diagonal from a then.
-      const auto at_a = new_index.find(a);
-      const bool through_a1 = at_a != new_index.end() && x1 == at_a->second;
-      const bool through_a2 = at_a != new_index.end() && x2 == at_a->second;
+      const Index at_a = new_index[a];
+      const bool through_a1 = at_a != kInvalidIndex && x1 == at_a;
+      const bool through_a2 = at_a != kInvalidIndex && x2 == at_a;
       if (through_a2 || (!through_a1 && (pos[x1] - pos[vc]).squaredNorm() <= (pos[vb] - pos[x2]).squaredNorm())) {
         emit(x1, vb, vc);
         emit(x1, vc, x2);
