@@ -1,5 +1,6 @@
 #include "st/design/ruled_surface.h"
 
+#include "detail/parallel.h"
 #include "st/core/errors.h"
 
 #include <algorithm>
@@ -13,8 +14,12 @@ namespace {
 // closed loops, rotated so Q starts at `q_start`). Returns the cost and fills `moves` (true: advance P).
 double strip(const std::vector<Vec3>& p, const std::vector<Vec3>& q, std::size_t q_start, std::vector<char>& moves) {
   const std::size_t m = p.size(), n = q.size();
-  auto P = [&](std::size_t i) -> const Vec3& { return p[i % m]; };
-  auto Q = [&](std::size_t j) -> const Vec3& { return q[(j + q_start) % n]; };
+  // The loops unrolled once (P[m] == P[0]; Q rotated to start at q_start): no division per cell.
+  std::vector<Vec3> pr(m + 1), qr(n + 1);
+  for (std::size_t i = 0; i <= m; ++i) pr[i] = p[i % m];
+  for (std::size_t j = 0; j <= n; ++j) qr[j] = q[(j + q_start) % n];
+  auto P = [&](std::size_t i) -> const Vec3& { return pr[i]; };
+  auto Q = [&](std::size_t j) -> const Vec3& { return qr[j]; };
   const std::size_t cols = n + 1;
   std::vector<double> dist(cols);
   std::vector<char> from_p((m + 1) * cols); // true: reached (i, j) from (i-1, j)
@@ -76,20 +81,28 @@ RuledResult ruled_surface(const std::vector<Vec3>& p, const std::vector<Vec3>& q
     }
   }
   const int k = std::max(1, options.start_candidates);
-  double best_cost = std::numeric_limits<double>::infinity();
-  std::vector<char> moves, best_moves;
-  std::size_t best_start = best_j;
+  // The candidates' strips are independent: on all threads, the best taken in candidate order.
+  std::vector<std::size_t> starts(static_cast<std::size_t>(k));
+  std::vector<double> costs(starts.size());
+  std::vector<std::vector<char>> moves(starts.size());
   for (int c = 0; c < k; ++c) {
     const long offset = (c % 2 == 0 ? 1 : -1) * static_cast<long>((c + 1) / 2);
-    const std::size_t start = static_cast<std::size_t>(
+    starts[c] = static_cast<std::size_t>(
         (static_cast<long>(best_j) + offset % static_cast<long>(n) + static_cast<long>(n)) % static_cast<long>(n));
-    const double cost = strip(p, q, start, moves);
-    if (cost < best_cost) {
-      best_cost = cost;
-      best_moves = moves;
-      best_start = start;
-    }
   }
+  detail::parallel_for(starts.size(), 1, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t c = begin; c < end; ++c) costs[c] = strip(p, q, starts[c], moves[c]);
+  });
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::size_t best = starts.size(); // none (costs not finite: no strip)
+  for (std::size_t c = 0; c < starts.size(); ++c)
+    if (costs[c] < best_cost) {
+      best_cost = costs[c];
+      best = c;
+    }
+  const std::vector<char> none;
+  const std::vector<char>& best_moves = best < starts.size() ? moves[best] : none;
+  const std::size_t best_start = best < starts.size() ? starts[best] : best_j;
 
   RuledResult result;
   result.span_length = best_cost;
