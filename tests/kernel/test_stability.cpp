@@ -156,6 +156,39 @@ TEST(Stability, TheHintForASlideNamesTheBoneThatFacesIt) {
   EXPECT_EQ(hint.rim_point.x(), 0.0) << "not the rim at the capped end";
 }
 
+TEST(Stability, TheBoneNormalsMadeOnDemandGiveTheSameAnswer) {
+  // With the bone's topology the whole analysis makes only the vertex normals it reads: the contacts,
+  // the score, the press point and the hint (the cap the guide does not cover) are the same, bit for
+  // bit, as with all normals made up front; a topology of another mesh is refused.
+  const HalfCylinder half;
+  const TriangleMesh cap = test::make_grid_patch(
+      24, 0.0, kPi, 0.0, 10.0, [](double t, double s) { return Vec3(0.0, s * std::cos(t), s * std::sin(t)); });
+  const TriangleMesh bone = joined({half.bone, cap});
+  const AabbTree tree(bone), covered(half.guide);
+  const MeshTopology topology(bone), guide_topology(half.guide);
+  std::vector<Vec3> rim;
+  for (const auto& loop : border_loops(half.guide, guide_topology.all_opposites()))
+    for (Index v : loop) rim.push_back(half.guide.positions[v]);
+  const Vec3 down(0, 0, -1);
+  const StabilityResult all = guide_stability(half.guide, tree, down, 0.05, half.guide.positions, rim, covered);
+  const StabilityResult lazy =
+      guide_stability(half.guide, tree, down, 0.05, half.guide.positions, rim, covered, 0.05, {}, false, &topology);
+  ASSERT_FALSE(all.contacts.empty());
+  ASSERT_EQ(lazy.contacts.size(), all.contacts.size());
+  for (std::size_t i = 0; i < all.contacts.size(); ++i) {
+    EXPECT_EQ(lazy.contacts[i].point, all.contacts[i].point);
+    EXPECT_EQ(lazy.contacts[i].normal, all.contacts[i].normal);
+  }
+  EXPECT_EQ(lazy.report.score, all.report.score);
+  EXPECT_EQ(lazy.press.point, all.press.point);
+  ASSERT_TRUE(all.extend.found);
+  EXPECT_EQ(lazy.extend.bone_point, all.extend.bone_point);
+  EXPECT_EQ(lazy.extend.rim_point, all.extend.rim_point);
+  EXPECT_THROW(static_cast<void>(guide_stability(half.guide, tree, down, 0.05, half.guide.positions, rim, covered, 0.05,
+                                                 {}, false, &guide_topology)),
+               InvalidInput);
+}
+
 /// Three faces of the box [-20, 0]^3 around its corner at the origin, `s` mm wide, normals outward.
 TriangleMesh box_corner(double s, int n) {
   return joined({test::make_grid_patch(n, -s, 0, -s, 0, [](double u, double v) { return Vec3(0, u, v); }),

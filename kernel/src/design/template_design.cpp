@@ -252,7 +252,7 @@ void analyse_shell(const AnalysisInputs& in, const TemplateOptions& options, Ana
     // Contacts of the inner surface (block-out fills left out: they bridge what the guide cannot reach).
     const AabbTree covered(ins.region.empty() ? in.inner : ins.region);
     out.stability = guide_stability(in.inner, *in.bone_tree, ins.direction, contact_reach(options, in.resolution),
-                                    in.outer, in.curve, covered, 0.05, ins.filled);
+                                    in.outer, in.curve, covered, 0.05, ins.filled, false, &in.bone_topology);
     out.stability_seconds = seconds_since(t0);
   }
   if (fit) fit->join();

@@ -125,13 +125,14 @@ FreeMotion describe_twist(const StabilityReport& report, const Twist& x, bool ke
   return m;
 }
 
-std::vector<Contact> sample_contacts(const TriangleMesh& inner, const AabbTree& bone, double reach, double spacing,
-                                     const std::vector<std::uint8_t>& skip, bool toward_bone,
-                                     const std::vector<Vec3>* bone_normals) {
+namespace {
+
+/// sample_contacts() with the bone's vertex normals from normal_of(vertex).
+template <class NormalOf>
+std::vector<Contact> contacts_with(const TriangleMesh& inner, const AabbTree& bone, double reach, double spacing,
+                                   const std::vector<std::uint8_t>& skip, bool toward_bone, NormalOf&& normal_of) {
   if (!(spacing > 0.0) || !std::isfinite(spacing)) throw InvalidInput("contacts: spacing must be > 0");
   std::vector<Contact> contacts;
-  const std::vector<Vec3> own = bone_normals ? std::vector<Vec3>{} : vertex_normals(bone.mesh());
-  const std::vector<Vec3>& normals_of_bone = bone_normals ? *bone_normals : own;
   const double per_area = 1.0 / (spacing * spacing);
   double running = 0.0;
   std::size_t n = 0; // samples so far: the pattern's index
@@ -163,8 +164,7 @@ std::vector<Contact> sample_contacts(const TriangleMesh& inner, const AabbTree& 
       if (const double f2 = face.squaredNorm(); f2 > 0.0) { // barycentric weights of the closest point
         const Vec3 q = cp->point;
         const double w0 = (b1 - q).cross(b2 - q).dot(face) / f2, w1 = (b2 - q).cross(b0 - q).dot(face) / f2;
-        const Vec3 smooth =
-            w0 * normals_of_bone[bt[0]] + w1 * normals_of_bone[bt[1]] + (1.0 - w0 - w1) * normals_of_bone[bt[2]];
+        const Vec3 smooth = w0 * normal_of(bt[0]) + w1 * normal_of(bt[1]) + (1.0 - w0 - w1) * normal_of(bt[2]);
         if (smooth.dot(face) > 0.0) nb = smooth;
       }
       if (nb.norm() == 0.0) nb = normal;
@@ -174,6 +174,17 @@ std::vector<Contact> sample_contacts(const TriangleMesh& inner, const AabbTree& 
     }
   }
   return contacts;
+}
+
+} // namespace
+
+std::vector<Contact> sample_contacts(const TriangleMesh& inner, const AabbTree& bone, double reach, double spacing,
+                                     const std::vector<std::uint8_t>& skip, bool toward_bone,
+                                     const std::vector<Vec3>* bone_normals) {
+  const std::vector<Vec3> own = bone_normals ? std::vector<Vec3>{} : vertex_normals(bone.mesh());
+  const std::vector<Vec3>& normals = bone_normals ? *bone_normals : own;
+  return contacts_with(inner, bone, reach, spacing, skip, toward_bone,
+                       [&](Index v) -> const Vec3& { return normals[v]; });
 }
 
 StabilityReport analyse_stability(const std::vector<Contact>& contacts, const Vec3& direction,
@@ -386,9 +397,13 @@ std::string ExtensionHint::describe() const {
          ", where the bone faces the motion (cosine " + buf + ")";
 }
 
-ExtensionHint where_to_extend(const StabilityReport& report, const FreeMotion& motion, const std::vector<Vec3>& rim,
-                              const TriangleMesh& bone, const AabbTree& region, double reach, double on_region,
-                              const std::vector<Vec3>* bone_normals) {
+namespace {
+
+/// where_to_extend() with the bone's vertex normals from normal_of(vertex).
+template <class NormalOf> ExtensionHint extension_with(const StabilityReport& report, const FreeMotion& motion,
+                                                       const std::vector<Vec3>& rim, const TriangleMesh& bone,
+                                                       const AabbTree& region, double reach, double on_region,
+                                                       NormalOf&& normal_of) {
   ExtensionHint hint;
   if (rim.empty() || bone.empty()) return hint;
   BoundingBox box;
@@ -396,15 +411,15 @@ ExtensionHint where_to_extend(const StabilityReport& report, const FreeMotion& m
   box.min -= Vec3::Constant(reach);
   box.max += Vec3::Constant(reach);
   const Vec3 v = motion.twist.head<3>(), w = motion.twist.tail<3>() / report.scale;
-  const std::vector<Vec3> own = bone_normals ? std::vector<Vec3>{} : vertex_normals(bone);
-  const std::vector<Vec3>& normals = bone_normals ? *bone_normals : own;
   double best = -std::numeric_limits<double>::infinity();
   for (Index i = 0; i < bone.vertex_count(); ++i) {
     const Vec3& p = bone.positions[i];
-    if (!box.contains(p) || normals[i].norm() == 0.0) continue;
+    if (!box.contains(p)) continue;
+    const Vec3 normal = normal_of(i);
+    if (normal.norm() == 0.0) continue;
     const Vec3 u = v + w.cross(p - report.centroid);
     if (u.norm() < 1e-12) continue;
-    double facing = -normals[i].normalized().dot(u.normalized());
+    double facing = -normal.normalized().dot(u.normalized());
     if (motion.keeps_contact) facing = std::abs(facing); // free both ways: bone facing either way holds one
     if (facing < 0.5) continue;
     // The value below is less than facing - 0.5 on_region / reach: a vertex that cannot beat the best
@@ -428,22 +443,52 @@ ExtensionHint where_to_extend(const StabilityReport& report, const FreeMotion& m
   return hint;
 }
 
+} // namespace
+
+ExtensionHint where_to_extend(const StabilityReport& report, const FreeMotion& motion, const std::vector<Vec3>& rim,
+                              const TriangleMesh& bone, const AabbTree& region, double reach, double on_region,
+                              const std::vector<Vec3>* bone_normals) {
+  const std::vector<Vec3> own = bone_normals ? std::vector<Vec3>{} : vertex_normals(bone);
+  const std::vector<Vec3>& normals = bone_normals ? *bone_normals : own;
+  return extension_with(report, motion, rim, bone, region, reach, on_region,
+                        [&](Index v) -> const Vec3& { return normals[v]; });
+}
+
 StabilityResult guide_stability(const TriangleMesh& inner, const AabbTree& bone, const Vec3& direction, double reach,
                                 const std::vector<Vec3>& press_candidates, const std::vector<Vec3>& rim,
                                 const AabbTree& covered, double on_covered, const std::vector<std::uint8_t>& skip,
-                                bool toward_bone) {
+                                bool toward_bone, const MeshTopology* bone_topology) {
   StabilityResult out;
   out.analysed = true;
-  const std::vector<Vec3> normals = vertex_normals(bone.mesh()); // once, for the contacts and the hint
-  out.contacts = sample_contacts(inner, bone, reach, 1.0, skip, toward_bone, &normals);
+  // The bone's vertex normals where the contacts and the hint read them: made on first use from the
+  // faces around the vertex (in ascending order, as vertex_normals() sums them) when the caller has the
+  // bone's topology, else all at once.
+  const TriangleMesh& mesh = bone.mesh();
+  if (bone_topology && &bone_topology->mesh() != &mesh) throw InvalidInput("stability: the topology is not the bone's");
+  std::vector<Vec3> normals = bone_topology ? std::vector<Vec3>{} : vertex_normals(mesh);
+  std::vector<std::uint8_t> made;
+  if (bone_topology) {
+    normals.resize(mesh.vertex_count());
+    made.assign(mesh.vertex_count(), 0);
+  }
+  auto normal_of = [&](Index v) -> const Vec3& {
+    if (bone_topology && !made[v]) {
+      Vec3 n = Vec3::Zero();
+      for (Index f : bone_topology->faces_of(v)) n += triangle_normal(mesh, f);
+      if (const double len = n.norm(); len > 0.0) n /= len;
+      normals[v] = n;
+      made[v] = 1;
+    }
+    return normals[v];
+  };
+  out.contacts = contacts_with(inner, bone, reach, 1.0, skip, toward_bone, normal_of);
   out.report = analyse_stability(out.contacts, direction);
   std::vector<Vec3> candidates;
   const std::size_t step = std::max<std::size_t>(1, (press_candidates.size() + 999) / 1000);
   for (std::size_t i = 0; i < press_candidates.size(); i += step) candidates.push_back(press_candidates[i]);
   out.press = best_press_point(out.report, candidates);
   if (out.report.score < 0.5 && !out.report.free_motions.empty())
-    out.extend =
-        where_to_extend(out.report, out.report.worst_motion, rim, bone.mesh(), covered, 15.0, on_covered, &normals);
+    out.extend = extension_with(out.report, out.report.worst_motion, rim, mesh, covered, 15.0, on_covered, normal_of);
   return out;
 }
 

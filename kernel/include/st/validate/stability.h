@@ -35,6 +35,7 @@
 // outer point at which a push along d gives the highest score over the same extreme motions.
 
 #include "st/core/aabb_tree.h"
+#include "st/core/topology.h"
 #include "st/core/mesh.h"
 
 #include <Eigen/Core>
@@ -155,10 +156,12 @@ struct StabilityResult {
 /// The contacts of `inner` (faces with skip[f] left out) within `reach` of the bone, their free motions
 /// and score pressed along `direction`, the press point among `press_candidates` (at most 1000 of them
 /// used, evenly), and, when the score is below 0.5, where to extend the boundary `rim` onto bone
-/// outside `covered` (bone within `on_covered` of it counts as covered).
+/// outside `covered` (bone within `on_covered` of it counts as covered). `bone_topology`, the faces around
+/// the bone's vertices when the caller has them: only the vertex normals read are made.
 StabilityResult guide_stability(const TriangleMesh& inner, const AabbTree& bone, const Vec3& direction, double reach,
                                 const std::vector<Vec3>& press_candidates, const std::vector<Vec3>& rim,
                                 const AabbTree& covered, double on_covered = 0.05,
-                                const std::vector<std::uint8_t>& skip = {}, bool toward_bone = false);
+                                const std::vector<std::uint8_t>& skip = {}, bool toward_bone = false,
+                                const MeshTopology* bone_topology = nullptr);
 
 } // namespace st
