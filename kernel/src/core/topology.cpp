@@ -35,6 +35,13 @@ std::vector<Index> MeshTopology::all_opposites() const {
   return opp;
 }
 
+Vec3 MeshTopology::vertex_normal(Index v) const {
+  Vec3 n = Vec3::Zero();
+  for (Index f : faces_of(v)) n += triangle_normal(mesh_, f);
+  if (const double len = n.norm(); len > 0.0) n /= len;
+  return n;
+}
+
 std::vector<std::vector<Index>> border_loops(const TriangleMesh& mesh, const std::vector<Index>& opposites) {
   // Outgoing border half-edge per vertex.
   std::vector<Index> outgoing(mesh.vertex_count(), kInvalidIndex);

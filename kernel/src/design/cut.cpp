@@ -34,7 +34,7 @@ constexpr signed char kLeft = 1, kRight = -1;
 // to a vertex the curve passes through, on a sliver triangle of the surface) are merged, the input
 // vertex kept when one is: rounded to float they could fold the faces between them. A merge that
 // would break the link condition or turn a face over is not made.
-void merge_close_rim_vertices(CutResult& r) {
+void merge_close_rim_vertices(CutResult& r, const MeshTopology& topology) {
   TriangleMesh& m = r.region;
   const double limit2 = tol::kMinCutDistance_mm * tol::kMinCutDistance_mm;
   // Most rims have no such pair: nothing to merge, and nothing to index.
@@ -42,21 +42,12 @@ void merge_close_rim_vertices(CutResult& r) {
   for (std::size_t i = 0; i < r.rim.size() && !any_close; ++i)
     any_close = (m.positions[r.rim[(i + 1) % r.rim.size()]] - m.positions[r.rim[i]]).squaredNorm() < limit2;
   if (!any_close) return;
-  // The faces around each vertex: as the region has them (compressed rows), and those a merge moved
-  // onto it.
-  std::vector<Index> offsets(static_cast<std::size_t>(m.vertex_count()) + 1, 0), listed;
-  for (const Triangle& t : m.triangles)
-    for (Index v : t) ++offsets[v + 1];
-  std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
-  listed.resize(offsets.back());
-  {
-    std::vector<Index> fill(offsets.begin(), offsets.end() - 1);
-    for (Index f = 0; f < m.face_count(); ++f)
-      for (Index v : m.triangles[f]) listed[fill[v]++] = f;
-  }
+  // The faces around each vertex: as the region had them (`topology`, the region's before any merge),
+  // and those a merge moved onto it.
   std::vector<std::vector<Index>> moved_onto(m.vertex_count());
   auto faces_of = [&](Index v) {
-    std::vector<Index> out(listed.begin() + offsets[v], listed.begin() + offsets[v + 1]);
+    const std::span<const Index> listed = topology.faces_of(v);
+    std::vector<Index> out(listed.begin(), listed.end());
     out.insert(out.end(), moved_onto[v].begin(), moved_onto[v].end());
     return out;
   };
@@ -414,7 +405,7 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
                             where(pos[loops[i][0]]) + ": move the boundary around it or repair the mesh");
   }
   result.rim = loops[static_cast<std::size_t>(rim)];
-  merge_close_rim_vertices(result);
+  merge_close_rim_vertices(result, region_topology);
   return result;
 }
 

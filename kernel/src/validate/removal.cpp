@@ -104,13 +104,8 @@ const Vec3& SweepTest::shrunk(Index v) const {
   if (state.load(std::memory_order_acquire) == kMade) return shrunk_[v];
   std::uint8_t expected = 0;
   if (state.compare_exchange_strong(expected, kMaking, std::memory_order_acquire)) {
-    // The vertex normal as vertex_normals() sums it: the faces around v in ascending order.
-    const TriangleMesh& mesh = bone_.mesh();
-    Vec3 n = Vec3::Zero();
-    for (Index f : topology_.faces_of(v)) n += triangle_normal(mesh, f);
-    if (const double len = n.norm(); len > 0.0) n /= len;
-    Vec3 p = mesh.positions[v];
-    p -= lift_ * n;
+    Vec3 p = bone_.mesh().positions[v];
+    p -= lift_ * topology_.vertex_normal(v);
     shrunk_[v] = p;
     state.store(kMade, std::memory_order_release);
   } else {

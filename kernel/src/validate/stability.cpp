@@ -460,9 +460,8 @@ StabilityResult guide_stability(const TriangleMesh& inner, const AabbTree& bone,
                                 bool toward_bone, const MeshTopology* bone_topology) {
   StabilityResult out;
   out.analysed = true;
-  // The bone's vertex normals where the contacts and the hint read them: made on first use from the
-  // faces around the vertex (in ascending order, as vertex_normals() sums them) when the caller has the
-  // bone's topology, else all at once.
+  // The bone's vertex normals where the contacts and the hint read them: made on first use when the
+  // caller has the bone's topology, else all at once.
   const TriangleMesh& mesh = bone.mesh();
   if (bone_topology && &bone_topology->mesh() != &mesh) throw InvalidInput("stability: the topology is not the bone's");
   std::vector<Vec3> normals = bone_topology ? std::vector<Vec3>{} : vertex_normals(mesh);
@@ -473,10 +472,7 @@ StabilityResult guide_stability(const TriangleMesh& inner, const AabbTree& bone,
   }
   auto normal_of = [&](Index v) -> const Vec3& {
     if (bone_topology && !made[v]) {
-      Vec3 n = Vec3::Zero();
-      for (Index f : bone_topology->faces_of(v)) n += triangle_normal(mesh, f);
-      if (const double len = n.norm(); len > 0.0) n /= len;
-      normals[v] = n;
+      normals[v] = bone_topology->vertex_normal(v);
       made[v] = 1;
     }
     return normals[v];

@@ -71,6 +71,10 @@ public:
   /// Opposite of every half-edge (#F*3 entries), for small meshes that are walked a lot.
   [[nodiscard]] std::vector<Index> all_opposites() const;
 
+  /// The unit normal vertex_normals() gives vertex v, bit for bit (the same sum over the faces around
+  /// v in ascending order), zero where they cancel: for the few vertices a bone-sized mesh is read at.
+  [[nodiscard]] Vec3 vertex_normal(Index v) const;
+
 private:
   const TriangleMesh& mesh_;
   std::vector<Index> offsets_;

@@ -81,7 +81,7 @@ private:
   const AabbTree& bone_;
   std::optional<MeshTopology> own_topology_;
   const MeshTopology& topology_;
-  std::unique_ptr<Vec3[]> shrunk_;                     // valid where state_ is kShrunk
+  std::unique_ptr<Vec3[]> shrunk_;                     // valid where state_ says made
   std::unique_ptr<std::atomic<std::uint8_t>[]> state_; // per vertex: not made, being made, made
   double lift_ = 0.0;
 };
