@@ -3,6 +3,7 @@
 
 #include "helpers.h"
 
+#include "st/core/closest_point.h"
 #include "st/core/errors.h"
 #include "st/boolean/triangle_intersection.h"
 #include "st/core/topology.h"
@@ -10,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <functional>
 #include <limits>
@@ -100,6 +102,42 @@ TEST(DistancesToSurface, NearVerticesGiveTheSameDistances) {
   EXPECT_THROW(distances_to_surface(sphere.positions, sphere, std::vector<Index>{0, 1}), InvalidInput);
   std::vector<Index> beyond(sphere.vertex_count(), sphere.vertex_count());
   EXPECT_THROW(distances_to_surface(sphere.positions, sphere, beyond), InvalidInput);
+}
+
+// The points are searched in space-filling-curve order and each search is bounded by the previous
+// point's: the distances are still each point's exact one. Points in a random order, on vertices, on
+// edges and off the surface, against every face tried in turn.
+TEST(DistancesToSurface, AnyOrderOfPointsGivesEachItsClosestFace) {
+  const TriangleMesh sphere = make_icosphere(10.0, 3);
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<Vec3> points;
+  for (Index f = 0; f < sphere.face_count(); f += 3) {
+    const Triangle& t = sphere.triangles[f];
+    points.push_back(sphere.positions[t[0]]);                                  // on a vertex
+    points.push_back(0.5 * (sphere.positions[t[1]] + sphere.positions[t[2]])); // on an edge
+    points.push_back(Vec3(unit(random), unit(random), unit(random)) * 14.0);   // anywhere near
+  }
+  std::shuffle(points.begin(), points.end(), random);
+  const DistanceStats stats = distances_to_surface(points, sphere);
+  double least = std::numeric_limits<double>::infinity(), most = 0.0, sum = 0.0;
+  for (const Vec3& p : points) {
+    double best = std::numeric_limits<double>::infinity();
+    for (Index f = 0; f < sphere.face_count(); ++f) {
+      const Triangle& t = sphere.triangles[f];
+      const Vec3 q =
+          closest_point_on_triangle(p, sphere.positions[t[0]], sphere.positions[t[1]], sphere.positions[t[2]]);
+      best = std::min(best, (p - q).norm());
+    }
+    least = std::min(least, best);
+    most = std::max(most, best);
+    sum += best;
+  }
+  EXPECT_EQ(stats.count, points.size());
+  EXPECT_NEAR(stats.min, least, 1e-12);
+  EXPECT_NEAR(stats.max, most, 1e-12);
+  EXPECT_NEAR(stats.mean, sum / static_cast<double>(points.size()), 1e-12);
+  EXPECT_EQ(stats.min, 0.0); // the points on vertices and edges
 }
 
 // A cube of n x n squares a side (corners welded), flat faces: the coplanar neighbours a fold makes.

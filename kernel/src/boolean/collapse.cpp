@@ -95,10 +95,13 @@ public:
   /// Drops the removed faces and unused vertices; the face lists follow.
   void compact(BooleanResult& r, std::vector<Index>& fresh, std::vector<Index>& unchanged) {
     std::vector<Index> kept;
+    kept.reserve(m_.face_count());
     for (Index f = 0; f < m_.face_count(); ++f)
       if (!removed_[f]) kept.push_back(f);
     std::vector<std::uint8_t> from_b;
     std::vector<Index> source;
+    from_b.reserve(kept.size());
+    source.reserve(kept.size());
     fresh.clear();
     unchanged.clear();
     for (Index i = 0; i < kept.size(); ++i) {

@@ -461,6 +461,13 @@ private:
     const std::size_t total = na_ + nb_ + points_.size();
     std::vector<Index> remap(total, kInvalidIndex);
     TriangleMesh& out = result.mesh;
+    // At most every face far from the other operand and every piece: reserved once (a template of
+    // 100k faces would otherwise be copied as its arrays grow).
+    const std::size_t most = a_.face_count() + b_.face_count() + pieces_[0].size() + pieces_[1].size();
+    out.positions.reserve(total);
+    out.triangles.reserve(most);
+    result.from_b.reserve(most);
+    result.source_face.reserve(most);
     auto vertex = [&](Index id) {
       if (remap[id] == kInvalidIndex) {
         remap[id] = out.vertex_count();

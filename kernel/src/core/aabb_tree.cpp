@@ -2,6 +2,7 @@
 
 #include "st/core/closest_point.h"
 #include "st/core/ray_triangle.h"
+#include "detail/morton.h"
 #include "detail/parallel.h"
 
 #include <algorithm>
@@ -49,17 +50,6 @@ bool ray_hits_box(const Corner& min, const Corner& max, double pad, const Vec3& 
     if (t0 > t1) return false;
   }
   return true;
-}
-
-// The low 21 bits of v, spread to every third bit.
-std::uint64_t spread_bits(std::uint64_t v) {
-  v &= 0x1fffffULL;
-  v = (v | v << 32) & 0x1f00000000ffffULL;
-  v = (v | v << 16) & 0x1f0000ff0000ffULL;
-  v = (v | v << 8) & 0x100f00f00f00f00fULL;
-  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-  v = (v | v << 2) & 0x1249249249249249ULL;
-  return v;
 }
 
 struct Keyed {
@@ -110,19 +100,12 @@ AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces) : mesh_(m
       centres.extend(c.max);
     }
   const double extent = centres.valid() ? centres.size().maxCoeff() : 0.0;
-  constexpr double kCells = double((1 << 21) - 1);
-  const double scale = extent > 0.0 ? kCells / extent : 0.0;
+  const double scale = extent > 0.0 ? detail::kMortonCells / extent : 0.0;
   std::vector<Keyed> keyed(n);
   detail::parallel_for(n, kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      const Vec3 c = triangle_box(mesh, faces_[i]).center();
-      std::uint64_t code = 0;
-      for (int k = 0; k < 3; ++k) {
-        const double q = (c[k] - centres.min[k]) * scale;
-        const auto cell = static_cast<std::uint64_t>(q >= 0.0 && q <= kCells ? q : 0.0); // NaN and overflow: 0
-        code |= spread_bits(cell) << (2 - k);
-      }
-      keyed[i] = {code, static_cast<Index>(i)};
+      keyed[i] = {detail::morton_code(triangle_box(mesh, faces_[i]).center(), centres.min, scale),
+                  static_cast<Index>(i)};
     }
   });
   radix_sort(keyed);
@@ -373,7 +356,7 @@ int AabbTree::split_pair(Index a, Index b, std::array<std::pair<Index, Index>, 3
     into = {{{na.left, na.left}, {na.right, na.right}, {na.left, na.right}}};
     return 3;
   }
-  if (lb || (!la && na.box.diagonal() >= nb.box.diagonal())) {
+  if (lb || (!la && na.box.squared_diagonal() >= nb.box.squared_diagonal())) {
     into[0] = {na.left, b};
     into[1] = {na.right, b};
   } else {
@@ -383,7 +366,7 @@ int AabbTree::split_pair(Index a, Index b, std::array<std::pair<Index, Index>, 3
   return 2;
 }
 
-void AabbTree::self_pairs(Index a, Index b, const std::function<void(Index, Index)>& visit) const {
+template <class Visit> void AabbTree::self_pairs(Index a, Index b, Visit& visit) const {
   std::array<std::pair<Index, Index>, 3> children;
   const int count = split_pair(a, b, children);
   if (count == 0) { // two leaves
@@ -421,10 +404,13 @@ std::vector<std::pair<Index, Index>> AabbTree::overlapping_pairs(const std::func
   }
   std::vector<std::vector<std::pair<Index, Index>>> found(tasks.size());
   detail::parallel_for(tasks.size(), 1, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i)
-      self_pairs(tasks[i].first, tasks[i].second, [&](Index x, Index y) {
-        if (keep(x, y)) found[i].emplace_back(x, y);
-      });
+    for (std::size_t i = begin; i < end; ++i) {
+      std::vector<std::pair<Index, Index>>& into = found[i];
+      auto visit = [&](Index x, Index y) {
+        if (keep(x, y)) into.emplace_back(x, y);
+      };
+      self_pairs(tasks[i].first, tasks[i].second, visit);
+    }
   });
   std::size_t total = 0;
   for (const auto& f : found) total += f.size();
@@ -446,7 +432,7 @@ void AabbTree::cross_pairs(Index a, const AabbTree& other, Index b,
         if (face_boxes_[i].overlaps(other.face_boxes_[j])) visit(faces_[i], other.faces_[j]);
     return;
   }
-  if (lb || (!la && na.box.diagonal() >= nb.box.diagonal())) {
+  if (lb || (!la && na.box.squared_diagonal() >= nb.box.squared_diagonal())) {
     cross_pairs(na.left, other, b, visit);
     cross_pairs(na.right, other, b, visit);
   } else {

@@ -1,5 +1,6 @@
 #include "st/validate/validate.h"
 
+#include "detail/morton.h"
 #include "detail/parallel.h"
 #include "st/core/aabb_tree.h"
 #include "st/core/errors.h"
@@ -276,17 +277,29 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
   const AabbTree tree(surface);
   const AabbTree::Slabs slabs = tree.slabs();
   const std::vector<FaceDisc> discs = face_discs(surface);
-  // Per chunk of points on all threads, summed in chunk order (the same result on any machine).
+  // The points are searched in Morton order, so that each one's search is bounded by a near
+  // neighbour's closest point (below); the distances are kept per point and summed in the points'
+  // own order, per chunk, chunks in order: the same result in any search order on any machine.
+  const std::size_t n = points.size();
+  std::vector<std::pair<std::uint64_t, Index>> order(n);
+  {
+    BoundingBox box;
+    for (const Vec3& p : points)
+      if (p.allFinite()) box.extend(p);
+    const double extent = box.valid() ? box.size().maxCoeff() : 0.0;
+    const double scale = extent > 0.0 ? detail::kMortonCells / extent : 0.0;
+    for (std::size_t i = 0; i < n; ++i)
+      order[i] = {detail::morton_code(points[i], box.min, scale), static_cast<Index>(i)};
+    std::sort(order.begin(), order.end());
+  }
+  std::vector<double> distance(n);
   constexpr std::size_t kGrain = 1024;
-  std::vector<DistanceStats> chunks((points.size() + kGrain - 1) / kGrain);
-  detail::parallel_for(points.size(), kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
-    DistanceStats& c = chunks[begin / kGrain];
-    c.min = std::numeric_limits<double>::infinity();
+  detail::parallel_for(n, kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
     // The previous point's closest point lies on the surface: its distance bounds this one's, so the
-    // search (of neighbouring points, as meshes number them) looks only within it; the distance found
-    // is the same.
+    // search looks only within it; the distance found is the same.
     std::optional<Vec3> last;
-    for (std::size_t i = begin; i < end; ++i) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const Index i = order[k].second;
       const Vec3& p = points[i];
       // Passed over: the faces whose disc bound (less a margin for its rounding) exceeds the best.
       const std::function<bool(Index, double)> beyond = [&](Index f, double best) {
@@ -310,17 +323,19 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
         last = near->point;
         d = near->distance;
       }
-      c.min = std::min(c.min, d);
-      c.max = std::max(c.max, d);
-      c.mean += d; // the sum, for now
+      distance[i] = d;
     }
   });
   s.min = std::numeric_limits<double>::infinity();
   double sum = 0.0;
-  for (const DistanceStats& c : chunks) {
-    s.min = std::min(s.min, c.min);
-    s.max = std::max(s.max, c.max);
-    sum += c.mean;
+  for (std::size_t begin = 0; begin < n; begin += kGrain) {
+    double chunk = 0.0;
+    for (std::size_t i = begin; i < std::min(n, begin + kGrain); ++i) {
+      s.min = std::min(s.min, distance[i]);
+      s.max = std::max(s.max, distance[i]);
+      chunk += distance[i];
+    }
+    sum += chunk;
   }
   s.count = points.size();
   s.mean = sum / static_cast<double>(points.size());

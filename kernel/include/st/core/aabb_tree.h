@@ -146,10 +146,11 @@ private:
         if (!(double(min[k]) <= o.max[k] && o.min[k] <= double(max[k]))) return false;
       return true;
     }
-    [[nodiscard]] double diagonal() const {
+    /// The diagonal's square (compared, never rooted: the larger box is split first).
+    [[nodiscard]] double squared_diagonal() const {
       double s = 0.0;
       for (int k = 0; k < 3; ++k) s += (double(max[k]) - double(min[k])) * (double(max[k]) - double(min[k]));
-      return std::sqrt(s);
+      return s;
     }
   };
   struct Node {
@@ -176,7 +177,10 @@ private:
   /// The node pairs self_pairs(a, b) recurses into (into[0..count)): -1 when the boxes miss, 0 for two
   /// leaves (their triangles are compared), else 2 or 3.
   int split_pair(Index a, Index b, std::array<std::pair<Index, Index>, 3>& into) const;
-  void self_pairs(Index a, Index b, const std::function<void(Index, Index)>& visit) const;
+  /// Calls visit(fa, fb) for the pairs of triangles under nodes a and b whose boxes overlap. Defined
+  /// in aabb_tree.cpp, used there only (the visitor inlined: a self-intersection check visits a
+  /// million pairs).
+  template <class Visit> void self_pairs(Index a, Index b, Visit& visit) const;
   void cross_pairs(Index a, const AabbTree& other, Index b, const std::function<void(Index, Index)>& visit) const;
 
   const TriangleMesh& mesh_;
