@@ -356,7 +356,7 @@ int AabbTree::split_pair(Index a, Index b, std::array<std::pair<Index, Index>, 3
     into = {{{na.left, na.left}, {na.right, na.right}, {na.left, na.right}}};
     return 3;
   }
-  if (lb || (!la && na.box.squared_diagonal() >= nb.box.squared_diagonal())) {
+  if (lb || (!la && na.box.diagonal() >= nb.box.diagonal())) {
     into[0] = {na.left, b};
     into[1] = {na.right, b};
   } else {
@@ -432,7 +432,7 @@ void AabbTree::cross_pairs(Index a, const AabbTree& other, Index b,
         if (face_boxes_[i].overlaps(other.face_boxes_[j])) visit(faces_[i], other.faces_[j]);
     return;
   }
-  if (lb || (!la && na.box.squared_diagonal() >= nb.box.squared_diagonal())) {
+  if (lb || (!la && na.box.diagonal() >= nb.box.diagonal())) {
     cross_pairs(na.left, other, b, visit);
     cross_pairs(na.right, other, b, visit);
   } else {

@@ -17,6 +17,7 @@
 #include <optional>
 #include <span>
 #include <sstream>
+#include <string>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -263,6 +264,10 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
   if (points.empty() || surface.empty()) return s;
   if (!near_vertex.empty() && near_vertex.size() != points.size())
     throw InvalidInput("distances to a surface: one near vertex per point, or none");
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (!points[i].allFinite())
+      throw InvalidInput("distances to a surface: point " + std::to_string(i) +
+                         " has a coordinate that is not a number");
   bool all_on_vertices = !near_vertex.empty();
   for (std::size_t i = 0; i < near_vertex.size(); ++i) {
     const Index v = near_vertex[i];
@@ -278,18 +283,17 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
   const AabbTree::Slabs slabs = tree.slabs();
   const std::vector<FaceDisc> discs = face_discs(surface);
   // The points are searched in Morton order, so that each one's search is bounded by a near
-  // neighbour's closest point (below); the distances are kept per point and summed in the points'
-  // own order, per chunk, chunks in order: the same result in any search order on any machine.
+  // neighbour's closest point (below); each point's distance is its own search's, whatever bounds it,
+  // and the distances are summed in the points' own order, per chunk, chunks in order: the same
+  // result in any search order on any machine.
   const std::size_t n = points.size();
-  std::vector<std::pair<std::uint64_t, Index>> order(n);
+  std::vector<std::pair<std::uint64_t, std::size_t>> order(n);
   {
     BoundingBox box;
-    for (const Vec3& p : points)
-      if (p.allFinite()) box.extend(p);
-    const double extent = box.valid() ? box.size().maxCoeff() : 0.0;
+    for (const Vec3& p : points) box.extend(p);
+    const double extent = box.size().maxCoeff();
     const double scale = extent > 0.0 ? detail::kMortonCells / extent : 0.0;
-    for (std::size_t i = 0; i < n; ++i)
-      order[i] = {detail::morton_code(points[i], box.min, scale), static_cast<Index>(i)};
+    for (std::size_t i = 0; i < n; ++i) order[i] = {detail::morton_code(points[i], box.min, scale), i};
     std::sort(order.begin(), order.end());
   }
   std::vector<double> distance(n);
@@ -299,7 +303,7 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
     // search looks only within it; the distance found is the same.
     std::optional<Vec3> last;
     for (std::size_t k = begin; k < end; ++k) {
-      const Index i = order[k].second;
+      const std::size_t i = order[k].second;
       const Vec3& p = points[i];
       // Passed over: the faces whose disc bound (less a margin for its rounding) exceeds the best.
       const std::function<bool(Index, double)> beyond = [&](Index f, double best) {
@@ -309,21 +313,20 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
         const double lateral = std::max(0.0, std::sqrt(std::max(0.0, v.squaredNorm() - h * h)) - d.radius);
         return (h * h + lateral * lateral) * (1.0 - 1e-9) > best;
       };
+      const Index v = near_vertex.empty() ? kInvalidIndex : near_vertex[i];
+      if (v != kInvalidIndex && p == surface.positions[v]) { // on its vertex: on the surface
+        distance[i] = 0.0;
+        last = p;
+        continue;
+      }
       // Bounds from above: the previous point's closest point and the near vertex, both on the surface.
       double bound = last ? (p - *last).norm() : std::numeric_limits<double>::infinity();
-      const Index v = near_vertex.empty() ? kInvalidIndex : near_vertex[i];
       if (v != kInvalidIndex) bound = std::min(bound, (p - surface.positions[v]).norm());
-      double d = 0.0;
-      if (bound == 0.0) {
-        last = p; // on the surface
-      } else {
-        std::optional<ClosestPoint> near;
-        if (std::isfinite(bound)) near = tree.closest_point(p, bound * (1.0 + 1e-9), slabs, beyond);
-        if (!near) near = tree.closest_point(p, std::numeric_limits<double>::infinity(), slabs, beyond);
-        last = near->point;
-        d = near->distance;
-      }
-      distance[i] = d;
+      std::optional<ClosestPoint> near;
+      if (std::isfinite(bound)) near = tree.closest_point(p, bound * (1.0 + 1e-9), slabs, beyond);
+      if (!near) near = tree.closest_point(p, std::numeric_limits<double>::infinity(), slabs, beyond);
+      last = near->point;
+      distance[i] = near->distance;
     }
   });
   s.min = std::numeric_limits<double>::infinity();

@@ -146,11 +146,10 @@ private:
         if (!(double(min[k]) <= o.max[k] && o.min[k] <= double(max[k]))) return false;
       return true;
     }
-    /// The diagonal's square (compared, never rooted: the larger box is split first).
-    [[nodiscard]] double squared_diagonal() const {
+    [[nodiscard]] double diagonal() const {
       double s = 0.0;
       for (int k = 0; k < 3; ++k) s += (double(max[k]) - double(min[k])) * (double(max[k]) - double(min[k]));
-      return s;
+      return std::sqrt(s);
     }
   };
   struct Node {
