@@ -52,28 +52,6 @@ bool ray_hits_box(const Corner& min, const Corner& max, double pad, const Vec3& 
   return true;
 }
 
-struct Keyed {
-  std::uint64_t code;
-  Index item;
-};
-
-// Sorts by code, keeping the order of equal codes: least significant digit first, 11 bits a pass.
-void radix_sort(std::vector<Keyed>& keyed) {
-  std::vector<Keyed> other(keyed.size());
-  constexpr int kBits = 11;
-  constexpr std::size_t kBuckets = std::size_t{1} << kBits;
-  std::uint64_t spread = 0;
-  for (const Keyed& k : keyed) spread |= k.code ^ keyed.front().code;
-  for (int shift = 0; shift < 64; shift += kBits) {
-    if (((spread >> shift) & (kBuckets - 1)) == 0) continue; // every code has the same digit here
-    std::array<std::size_t, kBuckets + 1> start{};
-    for (const Keyed& k : keyed) ++start[((k.code >> shift) & (kBuckets - 1)) + 1];
-    for (std::size_t b = 0; b < kBuckets; ++b) start[b + 1] += start[b];
-    for (const Keyed& k : keyed) other[start[(k.code >> shift) & (kBuckets - 1)]++] = k;
-    keyed.swap(other);
-  }
-}
-
 } // namespace
 
 AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces) : mesh_(mesh), faces_(std::move(faces)) {
@@ -101,14 +79,13 @@ AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces) : mesh_(m
     }
   const double extent = centres.valid() ? centres.size().maxCoeff() : 0.0;
   const double scale = extent > 0.0 ? detail::kMortonCells / extent : 0.0;
-  std::vector<Keyed> keyed(n);
+  std::vector<detail::MortonKeyed> keyed(n);
   detail::parallel_for(n, kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      keyed[i] = {detail::morton_code(triangle_box(mesh, faces_[i]).center(), centres.min, scale),
-                  static_cast<Index>(i)};
+      keyed[i] = {detail::morton_code(triangle_box(mesh, faces_[i]).center(), centres.min, scale), i};
     }
   });
-  radix_sort(keyed);
+  detail::sort_by_code(keyed);
   std::vector<Index> sorted_faces(n);
   face_boxes_.resize(n);
   std::vector<std::uint64_t> codes(n);

@@ -287,14 +287,14 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
   // and the distances are summed in the points' own order, per chunk, chunks in order: the same
   // result in any search order on any machine.
   const std::size_t n = points.size();
-  std::vector<std::pair<std::uint64_t, std::size_t>> order(n);
+  std::vector<detail::MortonKeyed> order(n);
   {
     BoundingBox box;
     for (const Vec3& p : points) box.extend(p);
     const double extent = box.size().maxCoeff();
     const double scale = extent > 0.0 ? detail::kMortonCells / extent : 0.0;
     for (std::size_t i = 0; i < n; ++i) order[i] = {detail::morton_code(points[i], box.min, scale), i};
-    std::sort(order.begin(), order.end());
+    detail::sort_by_code(order);
   }
   std::vector<double> distance(n);
   constexpr std::size_t kGrain = 1024;
@@ -303,7 +303,7 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
     // search looks only within it; the distance found is the same.
     std::optional<Vec3> last;
     for (std::size_t k = begin; k < end; ++k) {
-      const std::size_t i = order[k].second;
+      const std::size_t i = order[k].item;
       const Vec3& p = points[i];
       // Passed over: the faces whose disc bound (less a margin for its rounding) exceeds the best.
       const std::function<bool(Index, double)> beyond = [&](Index f, double best) {
