@@ -214,14 +214,14 @@ double contact_reach(const TemplateOptions& options, double resolution) {
   return options.clearance + 0.25 * resolution;
 }
 
-TemplateFit measure_fit(const AnalysisInputs& in) {
+TemplateFit measure_fit(const AnalysisInputs& in, const AabbTree* inner_tree) {
   TemplateFit fit;
   // The inner surface's vertices were moved from the region's (numbered alike where block-out and
   // skirt left them): each one's source bounds its search, and at zero clearance is its closest point.
   std::vector<Index> source(in.inner.vertex_count(), kInvalidIndex);
   for (Index v = 0; v < std::min(in.inner.vertex_count(), in.bone_region.vertex_count()); ++v) source[v] = v;
   fit.inner_to_bone = distances_to_surface(in.inner.positions, in.bone_region, source);
-  fit.outer_to_inner = distances_to_surface(in.outer, in.inner);
+  fit.outer_to_inner = distances_to_surface(in.outer, in.inner, {}, inner_tree);
   DistanceStats rim;
   rim.min = std::numeric_limits<double>::infinity();
   double sum = 0.0;
@@ -243,14 +243,20 @@ TemplateFit measure_fit(const AnalysisInputs& in) {
 }
 
 // The fit (on a thread of its own) and the stability (on the caller's thread) of a candidate shell.
+// Without block-out both search the inner surface: in one tree, built first.
 void analyse_shell(const AnalysisInputs& in, const TemplateOptions& options, Analyses& out) {
+  const InsertionReport& ins = in.insertion;
+  const bool stability = in.bone_tree != nullptr;
+  std::optional<AabbTree> inner_tree;
+  if (options.measure_fit && stability && ins.region.empty()) inner_tree.emplace(in.inner);
   std::optional<detail::Background> fit;
-  if (options.measure_fit) fit.emplace([&] { out.fit = measure_fit(in); });
-  if (in.bone_tree) {
+  if (options.measure_fit) fit.emplace([&] { out.fit = measure_fit(in, inner_tree ? &*inner_tree : nullptr); });
+  if (stability) {
     const auto t0 = Clock::now();
-    const InsertionReport& ins = in.insertion;
     // Contacts of the inner surface (block-out fills left out: they bridge what the guide cannot reach).
-    const AabbTree covered(ins.region.empty() ? in.inner : ins.region);
+    std::optional<AabbTree> region_tree;
+    const AabbTree& covered =
+        inner_tree ? *inner_tree : region_tree.emplace(ins.region.empty() ? in.inner : ins.region);
     out.stability = guide_stability(in.inner, *in.bone_tree, ins.direction, contact_reach(options, in.resolution),
                                     in.outer, in.curve, covered, 0.05, ins.filled, false, &in.bone_topology);
     out.stability_seconds = seconds_since(t0);
@@ -356,6 +362,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   guide_options.clearance = options.clearance;
   guide_options.thickness = options.thickness;
   guide_options.check_blade_paths = options.check;
+  guide_options.bone_tree = bone_tree ? &*bone_tree : nullptr; // built (and joined) by now when there is one
   std::optional<template_detail::ShellBuild> built;
   std::optional<GuideResult> guide;
   // The analyses of the candidate shell, from when it is built, and of the candidate guide (or shell),

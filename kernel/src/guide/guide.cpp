@@ -402,8 +402,12 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
   std::vector<TubeSpec> tubes = parts.tubes;
   std::vector<SlotSpec> slots = parts.slots;
   // Pins planned by their entry only go into the bone there; so do slots planned by their plane only.
+  if (options.bone_tree &&
+      (&options.bone_tree->mesh() != &bone || options.bone_tree->face_count() != bone.face_count()))
+    throw InvalidInput("guide: the bone tree given is not over all of the bone's faces");
   std::optional<AabbTree> all_bone;
   const auto whole_bone = [&]() -> const AabbTree& {
+    if (options.bone_tree) return *options.bone_tree;
     if (!all_bone) all_bone.emplace(bone);
     return *all_bone;
   };
@@ -470,14 +474,23 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
       boxes.push_back(b.inflated(0.5));
       all.extend(boxes.back());
     }
-    for (Index f = 0; f < bone.face_count(); ++f) {
+    // The bone's faces whose boxes meet a part's, in the order of the bone's faces: from the whole
+    // bone's tree when there is one (its boxes hold the faces' boxes, so it passes all of them, and
+    // each is then tested as without it), else in one pass over every face.
+    auto near_a_part = [&](Index f) {
       const BoundingBox fb = triangle_box(bone, f);
-      if (!fb.overlaps(all)) continue;
-      for (const BoundingBox& b : boxes)
-        if (fb.overlaps(b)) {
-          bone_near.push_back(f);
-          break;
-        }
+      return fb.overlaps(all) &&
+             std::any_of(boxes.begin(), boxes.end(), [&](const BoundingBox& b) { return fb.overlaps(b); });
+    };
+    if (options.bone_tree) {
+      if (all.valid())
+        options.bone_tree->for_each_in_box(all, [&](Index f) {
+          if (near_a_part(f)) bone_near.push_back(f);
+        });
+      std::sort(bone_near.begin(), bone_near.end());
+    } else {
+      for (Index f = 0; f < bone.face_count(); ++f)
+        if (near_a_part(f)) bone_near.push_back(f);
     }
   }
   const AabbTree bone_tree(bone, std::move(bone_near));

@@ -259,7 +259,7 @@ std::vector<FaceDisc> face_discs(const TriangleMesh& surface) {
 } // namespace
 
 DistanceStats distances_to_surface(const std::vector<Vec3>& points, const TriangleMesh& surface,
-                                   const std::vector<Index>& near_vertex) {
+                                   const std::vector<Index>& near_vertex, const AabbTree* given_tree) {
   DistanceStats s;
   if (points.empty() || surface.empty()) return s;
   if (!near_vertex.empty() && near_vertex.size() != points.size())
@@ -268,6 +268,8 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
     if (!points[i].allFinite())
       throw InvalidInput("distances to a surface: point " + std::to_string(i) +
                          " has a coordinate that is not a number");
+  if (given_tree && (&given_tree->mesh() != &surface || given_tree->face_count() != surface.face_count()))
+    throw InvalidInput("distances to a surface: the tree given is not over all of the surface's faces");
   bool all_on_vertices = !near_vertex.empty();
   for (std::size_t i = 0; i < near_vertex.size(); ++i) {
     const Index v = near_vertex[i];
@@ -279,7 +281,8 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
     s.count = points.size();
     return s;
   }
-  const AabbTree tree(surface);
+  std::optional<AabbTree> own_tree;
+  const AabbTree& tree = given_tree ? *given_tree : own_tree.emplace(surface);
   const AabbTree::Slabs slabs = tree.slabs();
   const std::vector<FaceDisc> discs = face_discs(surface);
   // The points are searched in Morton order, so that each one's search is bounded by a near

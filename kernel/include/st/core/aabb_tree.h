@@ -39,6 +39,8 @@ public:
 
   [[nodiscard]] bool empty() const { return faces_.empty(); }
   [[nodiscard]] const TriangleMesh& mesh() const { return mesh_; }
+  /// How many of the mesh's faces it holds.
+  [[nodiscard]] std::size_t face_count() const { return faces_.size(); }
 
   /// Closest point on the indexed triangles; nullopt when the tree is empty or nothing lies within
   /// `max_distance`.

@@ -21,6 +21,7 @@
 #include "st/guide/slot.h"
 #include "st/guide/sleeve.h"
 #include "st/guide/tube.h"
+#include "st/core/aabb_tree.h"
 #include "st/core/mesh.h"
 
 #include <optional>
@@ -39,6 +40,10 @@ struct GuideOptions {
   /// Each slot's blade path checked free on the finished guide (check_blade_path); a guide that fails
   /// it is refused, naming the slot and the place.
   bool check_blade_paths = true;
+  /// A tree over all of the bone's faces, when the caller has one (the design's): the bone under the
+  /// parts is found in it instead of by a pass over every face, and the direction of pins and slots
+  /// planned without one is decided in it. Null: built here as needed.
+  const AabbTree* bone_tree = nullptr;
 };
 
 /// What was decided for one tube; heights z along its axis from the entry, outward (sleeve.h).

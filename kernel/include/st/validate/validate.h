@@ -53,8 +53,9 @@ struct DistanceStats {
 /// `near_vertex[i]`, when given, names a vertex of `surface` near points[i] (the one it was moved
 /// from, say; kInvalidIndex for none): its distance bounds the search from above, and a point on it
 /// lies at 0 without a search. Any vertex keeps the result the same; a near one makes it cheaper.
-/// Throws InvalidInput for a point that is not finite, naming it.
+/// `tree`, one over all of surface's faces when the caller has one (built here when null). Throws
+/// InvalidInput for a point that is not finite, naming it, or a tree over another mesh.
 DistanceStats distances_to_surface(const std::vector<Vec3>& points, const TriangleMesh& surface,
-                                   const std::vector<Index>& near_vertex = {});
+                                   const std::vector<Index>& near_vertex = {}, const AabbTree* tree = nullptr);
 
 } // namespace st
