@@ -8,6 +8,7 @@
 #include "st/core/topology.h"
 
 #include <numbers>
+#include <optional>
 
 using namespace st;
 using namespace st::test;
@@ -51,6 +52,42 @@ TEST(Cut, KeepsTheSideHoldingTheInsidePoint) {
   const CutResult big = cut_region(topology, curve, o);
   const double expected = 2.0 * std::numbers::pi * r * r * (1.0 + std::cos(polar));
   EXPECT_NEAR(big.area, expected, 0.01 * expected);
+}
+
+// With an inside point only its side is flooded (after a walk to the curve finds which); the region
+// must be the one the two sides' race gives: the same faces in the same order, the same rim.
+TEST(Cut, InsidePointGivesTheRegionOfTheRace) {
+  const double r = 10.0, polar = std::numbers::pi / 3.0;
+  const TriangleMesh sphere = make_icosphere(r, 5);
+  const TriangleMesh grid = make_height_field(-10, 10, -10, 10, 40, [](double x, double y) { return 0.02 * x * y; });
+  for (const TriangleMesh* mesh : {&sphere, &grid}) {
+    const MeshTopology topology(*mesh);
+    const bool on_sphere = mesh == &sphere;
+    std::vector<Vec3> pts = circle_on_sphere(r, polar, 12);
+    if (!on_sphere)
+      for (Vec3& p : pts) p = Vec3(0.6 * p.x(), 0.6 * p.y(), 0.02 * 0.36 * p.x() * p.y());
+    const SurfaceCurve curve = trace_surface_curve(topology, pts);
+    const CutResult raced = cut_region(topology, curve); // the smaller side
+    // Inside points: off the surface over the middle, and exactly on a vertex of the mesh.
+    const Vec3 middle = on_sphere ? Vec3(0.0, 0.0, r + 0.3) : Vec3(0.1, -0.05, 0.4);
+    Index vertex = 0;
+    for (Index v = 0; v < mesh->vertex_count(); ++v)
+      if ((mesh->positions[v] - middle).norm() < (mesh->positions[vertex] - middle).norm()) vertex = v;
+    for (const Vec3& inside : {middle, mesh->positions[vertex]}) {
+      CutOptions o;
+      o.inside = inside;
+      const CutResult walked = cut_region(topology, curve, o);
+      EXPECT_EQ(walked.region.triangles, raced.region.triangles);
+      EXPECT_EQ(walked.region.positions, raced.region.positions);
+      EXPECT_EQ(walked.rim, raced.rim);
+    }
+    // The other side: the two regions make up the surface.
+    CutOptions o;
+    o.inside = on_sphere ? Vec3(0.0, 0.0, -r) : Vec3(-9.5, 9.5, 0.02 * -9.5 * 9.5);
+    o.require_closed_region = on_sphere; // the grid's other side holds its open border
+    const CutResult other = cut_region(topology, curve, o);
+    EXPECT_NEAR(other.area + raced.area, surface_area(*mesh), 1e-9 * surface_area(*mesh));
+  }
 }
 
 TEST(Cut, BorderIsSmoothNotAlongMeshEdges) {
@@ -97,11 +134,16 @@ TEST(Cut, LoopAroundAHandleDoesNotSeparate) {
                      small * std::sin(v));
   }
   const SurfaceCurve curve = trace_surface_curve(topology, pts);
-  try {
-    cut_region(topology, curve);
-    FAIL() << "a loop around the torus tube must be refused";
-  } catch (const GeometryError& e) {
-    EXPECT_NE(std::string(e.what()).find("does not separate"), std::string::npos) << e.what();
+  // Without an inside point, and with one (whose side alone is flooded then).
+  for (const std::optional<Vec3>& inside : {std::optional<Vec3>{}, std::optional<Vec3>{Vec3(-big, 0.0, small)}}) {
+    CutOptions o;
+    o.inside = inside;
+    try {
+      cut_region(topology, curve, o);
+      FAIL() << "a loop around the torus tube must be refused";
+    } catch (const GeometryError& e) {
+      EXPECT_NE(std::string(e.what()).find("does not separate"), std::string::npos) << e.what();
+    }
   }
 }
 

@@ -14,7 +14,6 @@
 #include <cmath>
 #include <limits>
 #include <string>
-#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -28,13 +27,48 @@ inline Vec3 unit_normal(const TriangleMesh& mesh, Index f) {
   return len > 0.0 ? Vec3(n / len) : Vec3::Zero();
 }
 
+// The faces a local search has met: a table of a few hundred slots with linear probing (one small
+// allocation, no node per face), doubled when half full.
+class FaceSet {
+public:
+  FaceSet() : slots_(256, kInvalidIndex) {}
+  /// Adds f; false when it was there already.
+  bool insert(Index f) {
+    if (2 * (count_ + 1) > slots_.size()) grow();
+    if (!place(slots_, f)) return false;
+    ++count_;
+    return true;
+  }
+
+private:
+  static bool place(std::vector<Index>& slots, Index f) {
+    const std::size_t mask = slots.size() - 1;
+    for (std::size_t s = (std::size_t{f} * 0x9E3779B97F4A7C15ull) >> 40 & mask;; s = (s + 1) & mask) {
+      if (slots[s] == f) return false;
+      if (slots[s] == kInvalidIndex) {
+        slots[s] = f;
+        return true;
+      }
+    }
+  }
+  void grow() {
+    std::vector<Index> bigger(2 * slots_.size(), kInvalidIndex);
+    for (const Index f : slots_)
+      if (f != kInvalidIndex) place(bigger, f);
+    slots_ = std::move(bigger);
+  }
+  std::vector<Index> slots_;
+  std::size_t count_ = 0;
+};
+
 // Closest point to p among the faces connected to `start` that come within `radius` of p.
 inline ClosestPoint local_closest_point(const MeshTopology& topo, const Vec3& p, Index start, double radius) {
   const TriangleMesh& mesh = topo.mesh();
   ClosestPoint best;
   best.distance = std::numeric_limits<double>::infinity();
   std::vector<Index> stack{start};
-  std::unordered_set<Index> seen{start};
+  FaceSet seen;
+  seen.insert(start);
   while (!stack.empty()) {
     const Index f = stack.back();
     stack.pop_back();
@@ -47,7 +81,7 @@ inline ClosestPoint local_closest_point(const MeshTopology& topo, const Vec3& p,
       const Index o = topo.opposite(3 * f + k);
       if (o == kInvalidIndex) continue;
       const Index g = o / 3;
-      if (seen.insert(g).second) stack.push_back(g);
+      if (seen.insert(g)) stack.push_back(g);
     }
   }
   return best;

@@ -265,7 +265,44 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
     return side[best];
   };
 
+  // With an inside point, a walk over the surface from its face towards the nearest cut face (each
+  // step to a neighbour across an edge, nearer to it) reaches a face the seeding gave a side: the
+  // inside point's, as the walk crossed no cut edge. Only that side is flooded then, and its faces come
+  // in the same order as when both sides take turns (each side's queue grows from its own faces
+  // alone): the same region, without flooding the other side as far. Where the walk stalls (a fold
+  // of the surface), the sides take turns.
+  signed char walked = 0;
+  if (options.inside && inside_face != kInvalidIndex && face_state[inside_face] != kCutFace) {
+    auto centroid = [&](Index f) {
+      const Triangle& t = mesh.triangles[f];
+      return Vec3((mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0);
+    };
+    Vec3 target = centroid(cut_faces.front());
+    for (Index f : cut_faces)
+      if ((centroid(f) - *options.inside).squaredNorm() < (target - *options.inside).squaredNorm())
+        target = centroid(f);
+    Index g = inside_face;
+    double gap = (centroid(g) - target).squaredNorm();
+    while (face_state[g] == 0) {
+      Index next = kInvalidIndex;
+      for (Index k = 0; k < 3; ++k) {
+        const Index o = topology.opposite(3 * g + k);
+        if (o == kInvalidIndex) continue;
+        if (const double d = (centroid(o / 3) - target).squaredNorm(); d < gap) {
+          gap = d;
+          next = o / 3;
+        }
+      }
+      if (next == kInvalidIndex) break; // stalled
+      g = next;
+    }
+    if (face_state[g] == kLeft || face_state[g] == kRight) walked = face_state[g];
+  }
   int closed = -1;
+  if (walked != 0) {
+    while (!queue[q(walked)].empty()) pop(q(walked));
+    closed = q(walked);
+  }
   while (closed < 0) {
     const bool l = !queue[0].empty(), r = !queue[1].empty();
     if (!l) closed = 0;

@@ -185,31 +185,36 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
   }
   BoundingBox all;
   for (std::size_t i = 0; i < centres.size(); ++i) all.extend(BoundingBox{centres[i], centres[i]}.inflated(radii[i]));
+  // Faces come in increasing order: each point's list, and the faces near any (the local faces).
   std::vector<std::vector<std::pair<double, Index>>> near(centres.size()); // (distance, face) per point
+  SurfaceCurve curve;
   for (Index f = 0; f < mesh.face_count(); ++f) {
     const Triangle& t = mesh.triangles[f];
     BoundingBox b;
     for (Index v : t) b.extend(mesh.positions[v]);
     if (!b.overlaps(all)) continue;
+    bool local = false;
     for (std::size_t i = 0; i < centres.size(); ++i) {
       if (!b.inflated(radii[i]).contains(centres[i])) continue;
       const Vec3 q =
           closest_point_on_triangle(centres[i], mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
       const double d = (q - centres[i]).norm();
-      if (d <= radii[i]) near[i].emplace_back(d, f);
+      if (d <= radii[i]) {
+        near[i].emplace_back(d, f);
+        local = true;
+      }
     }
+    if (local) curve.local_faces.push_back(f);
   }
 
-  SurfaceCurve curve;
   // 2. Snap each control point to the closest face that belongs to a surface reaching beyond its
   //    snap ball: CT noise islands (small components wholly inside the ball) never capture a point.
   for (std::size_t i = 0; i < n; ++i) {
     auto& faces = near[i];
-    std::sort(faces.begin(), faces.end());
-    std::vector<Index> ball;
+    std::vector<Index> ball; // in increasing order, as found
     ball.reserve(faces.size());
     for (const auto& [d, f] : faces) ball.push_back(f);
-    std::sort(ball.begin(), ball.end());
+    std::sort(faces.begin(), faces.end());
     auto in_ball = [&](Index f) { return std::binary_search(ball.begin(), ball.end(), f); };
     std::vector<Index> island; // faces known to lie on small pieces
     Index chosen = kInvalidIndex;
@@ -245,10 +250,6 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
         closest_point_on_triangle(control_points[i], mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]));
     curve.control_faces.push_back(chosen);
   }
-  for (const auto& faces : near)
-    for (const auto& [d, f] : faces) curve.local_faces.push_back(f);
-  std::sort(curve.local_faces.begin(), curve.local_faces.end());
-  curve.local_faces.erase(std::unique(curve.local_faces.begin(), curve.local_faces.end()), curve.local_faces.end());
 
   // Mean edge length around the control points sets the sampling density.
   double edge_sum = 0.0;
