@@ -66,14 +66,18 @@ TEST(Cut, InsidePointGivesTheRegionOfTheRace) {
     std::vector<Vec3> pts = circle_on_sphere(r, polar, 12);
     if (!on_sphere)
       for (Vec3& p : pts) p = Vec3(0.6 * p.x(), 0.6 * p.y(), 0.02 * 0.36 * p.x() * p.y());
-    const SurfaceCurve curve = trace_surface_curve(topology, pts);
-    const CutResult raced = cut_region(topology, curve); // the smaller side
-    // Inside points: off the surface over the middle, and exactly on a vertex of the mesh.
+    // Inside points: off the surface over the middle, and exactly on a vertex of the mesh; the curve
+    // indexes the faces around them too, as the design's does, so that the walk starts from their own.
     const Vec3 middle = on_sphere ? Vec3(0.0, 0.0, r + 0.3) : Vec3(0.1, -0.05, 0.4);
     Index vertex = 0;
     for (Index v = 0; v < mesh->vertex_count(); ++v)
       if ((mesh->positions[v] - middle).norm() < (mesh->positions[vertex] - middle).norm()) vertex = v;
+    CutResult raced;
     for (const Vec3& inside : {middle, mesh->positions[vertex]}) {
+      CurveOptions curve_options;
+      curve_options.also_index = inside;
+      const SurfaceCurve curve = trace_surface_curve(topology, pts, curve_options);
+      raced = cut_region(topology, curve); // the smaller side, the two sides taking turns
       CutOptions o;
       o.inside = inside;
       const CutResult walked = cut_region(topology, curve, o);
@@ -82,6 +86,7 @@ TEST(Cut, InsidePointGivesTheRegionOfTheRace) {
       EXPECT_EQ(walked.rim, raced.rim);
     }
     // The other side: the two regions make up the surface.
+    const SurfaceCurve curve = trace_surface_curve(topology, pts);
     CutOptions o;
     o.inside = on_sphere ? Vec3(0.0, 0.0, -r) : Vec3(-9.5, 9.5, 0.02 * -9.5 * 9.5);
     o.require_closed_region = on_sphere; // the grid's other side holds its open border

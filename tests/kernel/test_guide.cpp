@@ -196,6 +196,29 @@ TEST_F(Bump, TubesInSpecialPositions) {
   GuideCheck(bone).expect_guide(r, o.tubes, 0.0);
 }
 
+// The design's bone tree, given to build_guide, finds the bone under the sleeves the way a pass over
+// every face does: the same guide. A tree over another mesh object is refused.
+TEST_F(Bump, TheBoneTreeGivenGivesTheSameGuide) {
+  TemplateOptions o = options();
+  o.tubes = {tube("through a vertex", Vec3(0, 0, 6.0), -Vec3::UnitZ()),
+             tube("along edges", Vec3(5, 5, 6.0 * std::exp(-50.0 / 150.0)), Vec3(-1, -1, -2))};
+  const TemplateResult r = design_template(bone, o);
+  const GuideParts parts{o.tubes, {}, {}};
+  GuideOptions g;
+  g.thickness = o.thickness;
+  const GuideResult plain = build_guide(r.body, r.body_inner_faces, bone, parts, g);
+  const AabbTree tree(bone);
+  g.bone_tree = &tree;
+  const GuideResult given = build_guide(r.body, r.body_inner_faces, bone, parts, g);
+  EXPECT_EQ(given.mesh.triangles, plain.mesh.triangles);
+  EXPECT_EQ(given.mesh.positions, plain.mesh.positions);
+  EXPECT_EQ(given.mesh.triangles, r.shell.triangles); // as the design made it
+  const TriangleMesh copy = bone;
+  const AabbTree other(copy);
+  g.bone_tree = &other;
+  EXPECT_THROW(build_guide(r.body, r.body_inner_faces, bone, parts, g), InvalidInput);
+}
+
 TEST_F(Bump, OverlappingSleevesMergeIntoOneSolid) {
   TemplateOptions o = options();
   for (int k = 0; k < 4; ++k) {

@@ -3,6 +3,7 @@
 
 #include "helpers.h"
 
+#include "st/core/aabb_tree.h"
 #include "st/core/closest_point.h"
 #include "st/core/errors.h"
 #include "st/boolean/triangle_intersection.h"
@@ -98,7 +99,16 @@ TEST(DistancesToSurface, NearVerticesGiveTheSameDistances) {
       EXPECT_EQ(hinted.mean, plain.mean) << off;
     }
     if (off == 0.0) EXPECT_EQ(plain.max, 0.0);
+    // A tree over the surface from the caller: the same search.
+    const AabbTree tree(sphere);
+    const DistanceStats given = distances_to_surface(points, sphere, {}, &tree);
+    EXPECT_EQ(given.min, plain.min) << off;
+    EXPECT_EQ(given.max, plain.max) << off;
+    EXPECT_EQ(given.mean, plain.mean) << off;
   }
+  const TriangleMesh copy = sphere;
+  const AabbTree other(copy);
+  EXPECT_THROW(distances_to_surface(sphere.positions, sphere, {}, &other), InvalidInput);
   EXPECT_THROW(distances_to_surface(sphere.positions, sphere, std::vector<Index>{0, 1}), InvalidInput);
   std::vector<Index> beyond(sphere.vertex_count(), sphere.vertex_count());
   EXPECT_THROW(distances_to_surface(sphere.positions, sphere, beyond), InvalidInput);

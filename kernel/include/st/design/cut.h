@@ -12,6 +12,14 @@
 // edges. The side that closes first (or the one holding the `inside` point) is the region. When the
 // two floods meet, the curve does not separate the surface (it runs around a handle or through a
 // hole) and the cut is refused. Work is proportional to the region, not to the whole mesh.
+//
+// With an `inside` point, a walk over the surface from its face towards the curve (each step across
+// an edge to a face nearer the nearest cut face) finds its side first, and only that side is flooded:
+// the same faces in the same order as when the two sides take turns, and a curve that does not
+// separate is still refused (the flood reaches the other side's first faces). The other side is not
+// flooded beyond them, so it no longer refuses, as the turns sometimes did, a region that the rest of
+// the surface touches at a single vertex (a pinch of the mesh, away from the curve): the region is
+// whole there. Where the walk stalls (a fold of the surface), the sides take turns as without it.
 
 #include "st/core/mesh.h"
 #include "st/design/surface_curve.h"

@@ -40,7 +40,8 @@ struct GuideOptions {
   /// Each slot's blade path checked free on the finished guide (check_blade_path); a guide that fails
   /// it is refused, naming the slot and the place.
   bool check_blade_paths = true;
-  /// A tree over all of the bone's faces, when the caller has one (the design's): the bone under the
+  /// AabbTree(bone), the tree over all of the bone's faces, when the caller has one (the design's),
+  /// built on this very mesh object (refused otherwise), its coordinates finite: the bone under the
   /// parts is found in it instead of by a pass over every face, and the direction of pins and slots
   /// planned without one is decided in it. Null: built here as needed.
   const AabbTree* bone_tree = nullptr;
