@@ -279,8 +279,8 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
     };
     Vec3 target = centroid(cut_faces.front());
     for (Index f : cut_faces)
-      if ((centroid(f) - *options.inside).squaredNorm() < (target - *options.inside).squaredNorm())
-        target = centroid(f);
+      if (const Vec3 c = centroid(f); (c - *options.inside).squaredNorm() < (target - *options.inside).squaredNorm())
+        target = c;
     Index g = inside_face;
     double gap = (centroid(g) - target).squaredNorm();
     while (face_state[g] == 0) {

@@ -402,8 +402,7 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
   std::vector<TubeSpec> tubes = parts.tubes;
   std::vector<SlotSpec> slots = parts.slots;
   // Pins planned by their entry only go into the bone there; so do slots planned by their plane only.
-  if (options.bone_tree &&
-      (&options.bone_tree->mesh() != &bone || options.bone_tree->face_count() != bone.face_count()))
+  if (options.bone_tree && !options.bone_tree->holds_all_of(bone))
     throw InvalidInput("guide: the bone tree given is not over all of the bone's faces");
   std::optional<AabbTree> all_bone;
   const auto whole_bone = [&]() -> const AabbTree& {

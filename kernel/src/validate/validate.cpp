@@ -268,7 +268,7 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
     if (!points[i].allFinite())
       throw InvalidInput("distances to a surface: point " + std::to_string(i) +
                          " has a coordinate that is not a number");
-  if (given_tree && (&given_tree->mesh() != &surface || given_tree->face_count() != surface.face_count()))
+  if (given_tree && !given_tree->holds_all_of(surface))
     throw InvalidInput("distances to a surface: the tree given is not over all of the surface's faces");
   bool all_on_vertices = !near_vertex.empty();
   for (std::size_t i = 0; i < near_vertex.size(); ++i) {

@@ -39,8 +39,11 @@ public:
 
   [[nodiscard]] bool empty() const { return faces_.empty(); }
   [[nodiscard]] const TriangleMesh& mesh() const { return mesh_; }
-  /// How many of the mesh's faces it holds.
-  [[nodiscard]] std::size_t face_count() const { return faces_.size(); }
+  /// Whether it is a tree over all of `mesh`'s faces (built on that very object): what a caller
+  /// handing its tree to a function about `mesh` must give.
+  [[nodiscard]] bool holds_all_of(const TriangleMesh& mesh) const {
+    return &mesh_ == &mesh && faces_.size() == mesh.face_count();
+  }
 
   /// Closest point on the indexed triangles; nullopt when the tree is empty or nothing lies within
   /// `max_distance`.
