@@ -186,6 +186,38 @@ TEST(BlockOut, ToothGuideComesOffOnlyWhenBlockedOut) {
   EXPECT_GT(ins.contact_area_mm2, ins.region_area_mm2 - tooth_undercut_area() - kPi * (4.2 * 4.2 - 16.0) - 0.5);
 }
 
+TEST(BlockOut, TheAnalysisBesideTheShellGivesWhatItGivesBeforeIt) {
+  // Without block-out the insertion analysis runs beside the clearance and the shell; with it, before
+  // them. On a cap the guide reaches from above (nothing to block out) both give the same guide and
+  // the same report, along a given direction and along the automatic one.
+  const TriangleMesh bone = test::make_icosphere(20.0, 5);
+  for (const bool given : {true, false}) {
+    TemplateOptions o;
+    for (int k = 0; k < 16; ++k) {
+      const double a = 2.0 * kPi * k / 16.0;
+      o.boundary_points.emplace_back(std::sqrt(300.0) * std::cos(a), std::sqrt(300.0) * std::sin(a), 10.0);
+    }
+    o.inside = Vec3(0.0, 0.0, 25.0);
+    o.thickness = 2.0;
+    o.analyse_insertion = true;
+    if (given) o.insertion = Vec3(0.0, 0.0, -1.0);
+    const TemplateResult beside = design_template(bone, o);
+    o.block_out = true;
+    const TemplateResult before = design_template(bone, o);
+    ASSERT_TRUE(beside.insertion.analysed);
+    EXPECT_FALSE(before.insertion.blocked_out);
+    EXPECT_EQ(beside.insertion.undercut_area_mm2, 0.0);
+    EXPECT_EQ(beside.insertion.direction, before.insertion.direction);
+    EXPECT_EQ(beside.insertion.hidden, before.insertion.hidden);
+    EXPECT_EQ(beside.insertion.region.triangles, before.insertion.region.triangles);
+    EXPECT_EQ(beside.insertion.contact_area_mm2, before.insertion.contact_area_mm2);
+    EXPECT_TRUE(beside.insertion.removable);
+    EXPECT_EQ(beside.shell.positions, before.shell.positions);
+    EXPECT_EQ(beside.shell.triangles, before.shell.triangles);
+    test::expect_valid_solid(beside.shell);
+  }
+}
+
 TEST(BlockOut, FillIsAWallWhereThePlateRingLiesExactlyUnderTheBulge) {
   // Plate rings every 0.25 mm: one lies exactly under the widest ring (r = 4, same angles), so the
   // hole left by the hidden faces has no area seen along the axis: the fill is a wall along it.

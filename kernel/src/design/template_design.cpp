@@ -310,12 +310,33 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   result.times.inner_segmentation = seconds_since(t0);
   std::optional<SweepTest> sweep; // the bone prepared for the block-out's and the removal check's sweeps
   RimChange rim_change;           // where block-out trimmed the rim
-  if (options.analyse_insertion) {
-    t0 = Clock::now();
+  // The insertion analysis reads the bone and the region as cut. Without block-out nothing the shell
+  // is built from depends on it: it runs beside the clearance and the shell (whose steps leave a core
+  // idle part of the time) and is known before the shell's analyses, the parts (the bone's tree) and
+  // the result read it; what it throws is thrown then, before what the shell threw. With block-out the
+  // inner surface depends on it: it runs first.
+  auto analyse = [&] {
+    const auto t = Clock::now();
     if (bone_tree_build) bone_tree_build->join();
     result.insertion = analyse_insertion(*bone_tree, bone_region, options.insertion, options.removal_distance);
-    result.times.insertion = seconds_since(t0);
-    if (options.block_out && result.insertion.undercut_area_mm2 > 0.0) {
+    result.times.insertion = seconds_since(t);
+  };
+  std::optional<detail::Background> analysing_insertion;
+  auto insertion_known = [&] {
+    if (!analysing_insertion) return;
+    std::exception_ptr failure;
+    try {
+      analysing_insertion->join();
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    analysing_insertion.reset();
+    if (failure) std::rethrow_exception(failure);
+  };
+  if (options.analyse_insertion && !options.block_out) analysing_insertion.emplace(analyse);
+  if (options.analyse_insertion && options.block_out) {
+    analyse();
+    if (result.insertion.undercut_area_mm2 > 0.0) {
       t0 = Clock::now();
       sweep.emplace(*bone_tree, &topology);
       BlockOutResult b =
@@ -362,7 +383,6 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   guide_options.clearance = options.clearance;
   guide_options.thickness = options.thickness;
   guide_options.check_blade_paths = options.check;
-  guide_options.bone_tree = bone_tree ? &*bone_tree : nullptr; // built (and joined) by now when there is one
   std::optional<template_detail::ShellBuild> built;
   std::optional<GuideResult> guide;
   // The analyses of the candidate shell, from when it is built, and of the candidate guide (or shell),
@@ -410,7 +430,14 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   auto accept = [&](bool tetrahedra) {
     stop_analyses();
     result.body_inner_faces = inner.region.face_count();
-    built = template_detail::build_shell(inner, options, tetrahedra, result);
+    try {
+      built = template_detail::build_shell(inner, options, tetrahedra, result);
+    } catch (...) {
+      insertion_known();
+      throw;
+    }
+    insertion_known();
+    guide_options.bone_tree = bone_tree ? &*bone_tree : nullptr; // built (and joined) by now when there is one
     for (int contoured = 0; contoured < (built->contoured ? 2 : 1); ++contoured) {
       if (contoured) {
         stop_analyses();

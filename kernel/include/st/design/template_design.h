@@ -65,7 +65,7 @@ struct TemplateTimes {
   double total = 0.0;      ///< sum of the above: the paper's "initial template generation"
   double boolean = 0.0;    ///< tubes merged and bores cut: the paper's "Runtime of Boolean operation"
   double validation = 0.0; ///< wall time of the checks and analyses beyond the design; not part of total
-  double insertion = 0.0;  ///< the insertion analysis; not part of total
+  double insertion = 0.0;  ///< the insertion analysis (beside the shell without block-out); not part of total
   double block_out = 0.0;  ///< the undercut block-out; part of inner_segmentation
   double removal = 0.0;    ///< the removal check and contact area: own time, beside the guide's check
   double stability = 0.0;  ///< contacts, free motions, score, press point: own time, beside the check
