@@ -311,10 +311,10 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   std::optional<SweepTest> sweep; // the bone prepared for the block-out's and the removal check's sweeps
   RimChange rim_change;           // where block-out trimmed the rim
   // The insertion analysis reads the bone and the region as cut. Without block-out nothing the shell
-  // is built from depends on it: it runs beside the clearance and the shell (whose steps leave a core
-  // idle part of the time) and is known before the shell's analyses, the parts (the bone's tree) and
-  // the result read it; what it throws is thrown then, before what the shell threw. With block-out the
-  // inner surface depends on it: it runs first.
+  // is built from depends on it: it runs beside the clearance and the shell, at low priority in the
+  // time their steps leave a core idle, and is known before the shell's analyses, the parts (the
+  // bone's tree) and the result read it; what it throws is thrown then, before what the shell threw.
+  // With block-out the inner surface depends on it: it runs first.
   auto analyse = [&] {
     const auto t = Clock::now();
     if (bone_tree_build) bone_tree_build->join();
@@ -333,7 +333,8 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     analysing_insertion.reset();
     if (failure) std::rethrow_exception(failure);
   };
-  if (options.analyse_insertion && !options.block_out) analysing_insertion.emplace(analyse);
+  if (options.analyse_insertion && !options.block_out)
+    analysing_insertion.emplace(analyse, detail::Background::Priority::low);
   if (options.analyse_insertion && options.block_out) {
     analyse();
     if (result.insertion.undercut_area_mm2 > 0.0) {
