@@ -485,9 +485,10 @@ private:
     };
     // Faces far from the other operand are outside it.
     const Verdict far_outside{.exterior = true, .inside = 0};
-    // Faces made or moved here (split pieces, and all of the second operand, whose coordinates are
-    // rounded now) are checked after rounding; unsplit local faces of the first operand only where
-    // they touch those.
+    // Faces made or moved here (split pieces, whose new corners are rounded now) are checked after
+    // rounding; unsplit local faces of either operand only where they touch those. Rounding moves no
+    // corner of the operands: mesh_boolean rounds both to float32 before they come here. (Two unsplit
+    // faces cannot cross: the corefinement would have split them.)
     std::vector<Index> fresh, unchanged;
     for (int s = 0; s < 2; ++s) {
       const bool reverse = op == BooleanOp::Difference && s == 1;
@@ -504,7 +505,7 @@ private:
         const Index c = components_[s][i];
         if (kept[c] < 0) kept[c] = keep(s, verdicts_[s][c], op) ? 1 : 0;
         if (!kept[c]) continue;
-        (s == 1 || split_[s].count(pieces_[s][i].source) ? fresh : unchanged).push_back(out.face_count());
+        (split_[s].count(pieces_[s][i].source) ? fresh : unchanged).push_back(out.face_count());
         emit(pieces_[s][i].t, reverse, static_cast<std::uint8_t>(s), pieces_[s][i].source);
       }
     }

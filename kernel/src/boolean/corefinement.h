@@ -126,7 +126,8 @@ std::size_t collapse_short_edges(BooleanResult& r, const std::vector<VertexOrigi
                                  std::vector<Index>& fresh, std::vector<Index>& unchanged);
 
 /// One corefinement of `a` and `b` (points closer than `short_edge` on the curve merged). Throws
-/// Degenerate when a contact is not in general position.
+/// Degenerate when a contact is not in general position. With options.round_to_float the operands'
+/// coordinates are float32 already (mesh_boolean rounds them): only the new points are rounded here.
 BooleanResult corefine(const TriangleMesh& a, const TriangleMesh& b, BooleanOp op, const BooleanOptions& options,
                        double short_edge);
 
