@@ -187,9 +187,9 @@ TEST(BlockOut, ToothGuideComesOffOnlyWhenBlockedOut) {
 }
 
 TEST(BlockOut, TheAnalysisBesideTheShellGivesWhatItGivesBeforeIt) {
-  // Without block-out the insertion analysis runs beside the clearance and the shell; with it, before
-  // them. On a cap the guide reaches from above (nothing to block out) both give the same guide and
-  // the same report, along a given direction and along the automatic one.
+  // Without block-out the insertion analysis, and then the stability's contacts, run beside the shell;
+  // with it, before and after it. On a cap the guide reaches from above (nothing to block out) both give
+  // the same guide and the same report, along a given direction and along the automatic one.
   const TriangleMesh bone = test::make_icosphere(20.0, 5);
   for (const bool given : {true, false}) {
     TemplateOptions o;
@@ -214,6 +214,18 @@ TEST(BlockOut, TheAnalysisBesideTheShellGivesWhatItGivesBeforeIt) {
     EXPECT_TRUE(beside.insertion.removable);
     EXPECT_EQ(beside.shell.positions, before.shell.positions);
     EXPECT_EQ(beside.shell.triangles, before.shell.triangles);
+    // The stability's contacts, prepared beside the shell, and the fit's tree made there too.
+    ASSERT_TRUE(beside.stability.analysed);
+    ASSERT_FALSE(beside.stability.contacts.empty());
+    ASSERT_EQ(beside.stability.contacts.size(), before.stability.contacts.size());
+    for (std::size_t i = 0; i < before.stability.contacts.size(); ++i)
+      EXPECT_EQ(beside.stability.contacts[i].point, before.stability.contacts[i].point);
+    EXPECT_EQ(beside.stability.report.score, before.stability.report.score);
+    EXPECT_EQ(beside.stability.press.point, before.stability.press.point);
+    EXPECT_EQ(beside.stability.extend.found, before.stability.extend.found);
+    EXPECT_EQ(beside.fit.outer_to_inner.min, before.fit.outer_to_inner.min);
+    EXPECT_EQ(beside.fit.outer_to_inner.max, before.fit.outer_to_inner.max);
+    EXPECT_EQ(beside.fit.outer_to_inner.mean, before.fit.outer_to_inner.mean);
     test::expect_valid_solid(beside.shell);
   }
 }

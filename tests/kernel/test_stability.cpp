@@ -156,7 +156,7 @@ TEST(Stability, TheHintForASlideNamesTheBoneThatFacesIt) {
   EXPECT_EQ(hint.rim_point.x(), 0.0) << "not the rim at the capped end";
 }
 
-TEST(Stability, TheBoneNormalsMadeOnDemandGiveTheSameAnswer) {
+TEST(Stability, TheBoneNormalsMadeOnDemandAndTheTwoPartsGiveTheSameAnswer) {
   // With the bone's topology the whole analysis makes only the vertex normals it reads: the contacts,
   // the score, the press point and the hint (the cap the guide does not cover) are the same, bit for
   // bit, as with all normals made up front; a topology of another mesh is refused.
@@ -186,6 +186,20 @@ TEST(Stability, TheBoneNormalsMadeOnDemandGiveTheSameAnswer) {
   EXPECT_EQ(lazy.extend.rim_point, all.extend.rim_point);
   EXPECT_THROW(static_cast<void>(guide_stability(half.guide, tree, down, 0.05, half.guide.positions, rim, covered, 0.05,
                                                  {}, false, &guide_topology)),
+               InvalidInput);
+  // In two parts (the design makes the first beside the shell, before the outer surface exists): the
+  // first has the contacts and the report only, and the two together give the same answer.
+  StabilityResult parts = stability_of_contacts(half.guide, tree, down, 0.05, {}, false, &topology);
+  EXPECT_FALSE(parts.extend.found);
+  ASSERT_EQ(parts.contacts.size(), all.contacts.size());
+  finish_stability(parts, tree, half.guide.positions, rim, covered, 0.05, &topology);
+  for (std::size_t i = 0; i < all.contacts.size(); ++i) EXPECT_EQ(parts.contacts[i].point, all.contacts[i].point);
+  EXPECT_EQ(parts.report.score, all.report.score);
+  EXPECT_EQ(parts.press.point, all.press.point);
+  ASSERT_TRUE(parts.extend.found);
+  EXPECT_EQ(parts.extend.bone_point, all.extend.bone_point);
+  EXPECT_EQ(parts.extend.rim_point, all.extend.rim_point);
+  EXPECT_THROW(static_cast<void>(stability_of_contacts(half.guide, tree, down, 0.05, {}, false, &guide_topology)),
                InvalidInput);
 }
 

@@ -8,6 +8,7 @@
 #include "st/design/skirt.h"
 #include "st/design/insertion.h"
 #include "st/validate/removal.h"
+#include "st/validate/stability.h"
 
 #include "st/core/aabb_tree.h"
 #include "st/design/cut.h"
@@ -21,6 +22,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <future>
 #include <unordered_map>
 
 namespace st {
@@ -197,6 +199,19 @@ struct Analyses {
   double stability_seconds = 0.0, removal_seconds = 0.0;
 };
 
+// What the shell's analyses read that does not depend on the shell, made beside it when the insertion
+// direction is known that early (without block-out): the stability's contacts and report, the tree
+// of the fit (over the inner surface) and that of the stability's extension (over the covered bone).
+// `made` is joined before any of it is read; what its making threw is thrown where the analyses throw.
+struct PreparedAnalyses {
+  std::optional<StabilityResult> stability;
+  std::optional<AabbTree> inner_tree, covered_tree;
+  double resolution = 0.0; // the one the contacts were found at
+  double stability_seconds = 0.0;
+  std::exception_ptr failure;
+  detail::Background* made = nullptr;
+};
+
 struct AnalysisInputs {
   const TriangleMesh& inner;       // the shell's inner surface (the region at the clearance)
   const std::vector<Index>& rim;   // the inner surface's border
@@ -208,6 +223,7 @@ struct AnalysisInputs {
   const SweepTest* sweep; // the bone prepared for sweeps, when block-out made it
   const InsertionReport& insertion;
   double resolution;
+  PreparedAnalyses* prepared; // made beside the shell, or null
 };
 
 double contact_reach(const TemplateOptions& options, double resolution) {
@@ -242,24 +258,36 @@ TemplateFit measure_fit(const AnalysisInputs& in, const AabbTree* inner_tree) {
   return fit;
 }
 
-// The fit (on a thread of its own) and the stability (on the caller's thread) of a candidate shell.
-// Without block-out both search the inner surface: in one tree, built first.
+// The fit (on a thread of its own) and the stability (on the caller's thread) of a candidate shell,
+// from what was prepared beside the shell when there is that.
 void analyse_shell(const AnalysisInputs& in, const TemplateOptions& options, Analyses& out) {
   const InsertionReport& ins = in.insertion;
   const bool stability = in.bone_tree != nullptr;
-  std::optional<AabbTree> inner_tree;
-  if (options.measure_fit && stability && ins.region.empty()) inner_tree.emplace(in.inner);
+  PreparedAnalyses* prepared = in.prepared;
+  if (prepared) {
+    prepared->made->join();
+    if (prepared->failure) std::rethrow_exception(prepared->failure);
+  }
+  const AabbTree* fit_tree = prepared && prepared->inner_tree ? &*prepared->inner_tree : nullptr;
   std::optional<detail::Background> fit;
-  if (options.measure_fit) fit.emplace([&] { out.fit = measure_fit(in, inner_tree ? &*inner_tree : nullptr); });
+  if (options.measure_fit) fit.emplace([&] { out.fit = measure_fit(in, fit_tree); });
   if (stability) {
     const auto t0 = Clock::now();
     // Contacts of the inner surface (block-out fills left out: they bridge what the guide cannot reach).
+    const double reach = contact_reach(options, in.resolution);
     std::optional<AabbTree> region_tree;
-    const AabbTree& covered =
-        inner_tree ? *inner_tree : region_tree.emplace(ins.region.empty() ? in.inner : ins.region);
-    out.stability = guide_stability(in.inner, *in.bone_tree, ins.direction, contact_reach(options, in.resolution),
-                                    in.outer, in.curve, covered, 0.05, ins.filled, false, &in.bone_topology);
-    out.stability_seconds = seconds_since(t0);
+    const AabbTree& covered = prepared && prepared->covered_tree
+                                  ? *prepared->covered_tree
+                                  : region_tree.emplace(ins.region.empty() ? in.inner : ins.region);
+    if (prepared && prepared->stability && prepared->resolution == in.resolution) {
+      out.stability = *prepared->stability;
+      finish_stability(*out.stability, *in.bone_tree, in.outer, in.curve, covered, 0.05, &in.bone_topology);
+      out.stability_seconds = prepared->stability_seconds + seconds_since(t0);
+    } else {
+      out.stability = guide_stability(in.inner, *in.bone_tree, ins.direction, reach, in.outer, in.curve, covered, 0.05,
+                                      ins.filled, false, &in.bone_topology);
+      out.stability_seconds = seconds_since(t0);
+    }
   }
   if (fit) fit->join();
 }
@@ -310,31 +338,14 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   result.times.inner_segmentation = seconds_since(t0);
   std::optional<SweepTest> sweep; // the bone prepared for the block-out's and the removal check's sweeps
   RimChange rim_change;           // where block-out trimmed the rim
-  // The insertion analysis reads the bone and the region as cut. Without block-out nothing the shell
-  // is built from depends on it: it runs beside the clearance and the shell, at low priority in the
-  // time their steps leave a core idle, and is known before the shell's analyses, the parts (the
-  // bone's tree) and the result read it; what it throws is thrown then, before what the shell threw.
-  // With block-out the inner surface depends on it: it runs first.
+  // The insertion analysis reads the bone and the region as cut. With block-out the inner surface
+  // depends on it: it runs first. Without, nothing the shell is built from does (see below).
   auto analyse = [&] {
     const auto t = Clock::now();
     if (bone_tree_build) bone_tree_build->join();
     result.insertion = analyse_insertion(*bone_tree, bone_region, options.insertion, options.removal_distance);
     result.times.insertion = seconds_since(t);
   };
-  std::optional<detail::Background> analysing_insertion;
-  auto insertion_known = [&] {
-    if (!analysing_insertion) return;
-    std::exception_ptr failure;
-    try {
-      analysing_insertion->join();
-    } catch (...) {
-      failure = std::current_exception();
-    }
-    analysing_insertion.reset();
-    if (failure) std::rethrow_exception(failure);
-  };
-  if (options.analyse_insertion && !options.block_out)
-    analysing_insertion.emplace(analyse, detail::Background::Priority::low);
   if (options.analyse_insertion && options.block_out) {
     analyse();
     if (result.insertion.undercut_area_mm2 > 0.0) {
@@ -374,6 +385,47 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   result.inner_rim_points = inner.rim.size();
   result.times.inner_segmentation += seconds_since(t0);
 
+  // Without block-out the insertion analysis, and then what the shell's analyses read that the shell
+  // does not change (PreparedAnalyses), run beside the shell, at low priority in the time its steps
+  // leave a core idle. The insertion is known (its failure thrown, before what the shell threw) once
+  // the shell is built, before the parts read the bone's tree and the analyses the report.
+  std::promise<void> insertion_promise;
+  std::future<void> insertion_future;
+  PreparedAnalyses prepared;
+  std::optional<detail::Background> preparing; // declared after what it reads: joined before it goes
+  if (options.analyse_insertion && !options.block_out) {
+    insertion_future = insertion_promise.get_future();
+    preparing.emplace(
+        [&] {
+          try {
+            analyse();
+          } catch (...) {
+            insertion_promise.set_exception(std::current_exception());
+            return;
+          }
+          insertion_promise.set_value();
+          if (!options.check) return;
+          try {
+            const auto t = Clock::now();
+            const InsertionReport& ins = result.insertion;
+            prepared.resolution = template_detail::shell_resolution(options);
+            prepared.stability =
+                stability_of_contacts(inner.region, *bone_tree, ins.direction,
+                                      contact_reach(options, prepared.resolution), ins.filled, false, &topology);
+            prepared.stability_seconds = seconds_since(t);
+            prepared.covered_tree.emplace(ins.region.empty() ? inner.region : ins.region);
+            if (options.measure_fit) prepared.inner_tree.emplace(inner.region);
+          } catch (...) {
+            prepared.failure = std::current_exception();
+          }
+        },
+        detail::Background::Priority::low);
+    prepared.made = &*preparing;
+  }
+  auto insertion_known = [&] {
+    if (insertion_future.valid()) insertion_future.get();
+  };
+
   // 2.-5. The shell: offset, outer surface, wall; then the parts. Checked, not trusted: a simplified
   // outer surface that fails falls back to the surface as contoured, marching cubes to marching
   // tetrahedra. With parts, the finished guide is checked and the shell only when the guide fails (a
@@ -405,7 +457,8 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
                           topology,
                           sweep ? &*sweep : nullptr,
                           result.insertion,
-                          result.resolution};
+                          result.resolution,
+                          preparing && options.check ? &prepared : nullptr};
   };
   auto analyse_shell_beside = [&] {
     stop_analyses();

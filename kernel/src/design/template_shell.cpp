@@ -64,6 +64,10 @@ std::vector<Index> faces_near(const TriangleMesh& mesh, const TriangleMesh& regi
 
 } // namespace
 
+double shell_resolution(const TemplateOptions& options) {
+  return options.resolution > 0.0 ? options.resolution : options.thickness / 8.0;
+}
+
 ShellBuild build_shell(const CutResult& inner, const TemplateOptions& options, bool tetrahedra,
                        TemplateResult& result) {
   // 2. Offset of the inner surface.
@@ -71,9 +75,7 @@ ShellBuild build_shell(const CutResult& inner, const TemplateOptions& options, b
   const double T = options.thickness;
   OffsetOptions offset_options;
   offset_options.distance = T;
-  // Without an explicit resolution, T / 8: independent of how finely the bone is triangulated, so
-  // a refined scan costs no more here than the coarse one.
-  offset_options.cell_size = options.resolution > 0.0 ? options.resolution : T / 8.0;
+  offset_options.cell_size = shell_resolution(options);
   offset_options.front_only = true;
   offset_options.tetrahedra = tetrahedra;
   offset_options.max_cells = options.max_field_cells;

@@ -28,4 +28,9 @@ struct ShellBuild {
 /// points, wall triangles, outer curve).
 ShellBuild build_shell(const CutResult& inner, const TemplateOptions& options, bool tetrahedra, TemplateResult& result);
 
+/// The offset's cell size build_shell uses (TemplateResult::resolution): options.resolution, or T / 8
+/// without one (independent of how finely the bone is triangulated, so a refined scan costs no more
+/// there than the coarse one).
+double shell_resolution(const TemplateOptions& options);
+
 } // namespace st::template_detail

@@ -454,37 +454,68 @@ ExtensionHint where_to_extend(const StabilityReport& report, const FreeMotion& m
                         [&](Index v) -> const Vec3& { return normals[v]; });
 }
 
+namespace {
+
+// The bone's vertex normals where the contacts and the hint read them: made on first use when the
+// caller has the bone's topology, else all at once.
+class BoneNormals {
+public:
+  BoneNormals(const TriangleMesh& mesh, const MeshTopology* topology) : topology_(topology) {
+    if (topology && &topology->mesh() != &mesh) throw InvalidInput("stability: the topology is not the bone's");
+    if (!topology) {
+      normals_ = vertex_normals(mesh);
+      return;
+    }
+    normals_.resize(mesh.vertex_count());
+    made_.assign(mesh.vertex_count(), 0);
+  }
+  const Vec3& operator()(Index v) {
+    if (topology_ && !made_[v]) {
+      normals_[v] = topology_->vertex_normal(v);
+      made_[v] = 1;
+    }
+    return normals_[v];
+  }
+
+private:
+  const MeshTopology* topology_;
+  std::vector<Vec3> normals_;
+  std::vector<std::uint8_t> made_;
+};
+
+} // namespace
+
+StabilityResult stability_of_contacts(const TriangleMesh& inner, const AabbTree& bone, const Vec3& direction,
+                                      double reach, const std::vector<std::uint8_t>& skip, bool toward_bone,
+                                      const MeshTopology* bone_topology) {
+  StabilityResult out;
+  out.analysed = true;
+  BoneNormals normal_of(bone.mesh(), bone_topology);
+  out.contacts = contacts_with(inner, bone, reach, 1.0, skip, toward_bone, normal_of);
+  out.report = analyse_stability(out.contacts, direction);
+  return out;
+}
+
+void finish_stability(StabilityResult& result, const AabbTree& bone, const std::vector<Vec3>& press_candidates,
+                      const std::vector<Vec3>& rim, const AabbTree& covered, double on_covered,
+                      const MeshTopology* bone_topology) {
+  std::vector<Vec3> candidates;
+  const std::size_t step = std::max<std::size_t>(1, (press_candidates.size() + 999) / 1000);
+  for (std::size_t i = 0; i < press_candidates.size(); i += step) candidates.push_back(press_candidates[i]);
+  result.press = best_press_point(result.report, candidates);
+  if (result.report.score < 0.5 && !result.report.free_motions.empty()) {
+    BoneNormals normal_of(bone.mesh(), bone_topology);
+    result.extend = extension_with(result.report, result.report.worst_motion, rim, bone.mesh(), covered, 15.0,
+                                   on_covered, normal_of);
+  }
+}
+
 StabilityResult guide_stability(const TriangleMesh& inner, const AabbTree& bone, const Vec3& direction, double reach,
                                 const std::vector<Vec3>& press_candidates, const std::vector<Vec3>& rim,
                                 const AabbTree& covered, double on_covered, const std::vector<std::uint8_t>& skip,
                                 bool toward_bone, const MeshTopology* bone_topology) {
-  StabilityResult out;
-  out.analysed = true;
-  // The bone's vertex normals where the contacts and the hint read them: made on first use when the
-  // caller has the bone's topology, else all at once.
-  const TriangleMesh& mesh = bone.mesh();
-  if (bone_topology && &bone_topology->mesh() != &mesh) throw InvalidInput("stability: the topology is not the bone's");
-  std::vector<Vec3> normals = bone_topology ? std::vector<Vec3>{} : vertex_normals(mesh);
-  std::vector<std::uint8_t> made;
-  if (bone_topology) {
-    normals.resize(mesh.vertex_count());
-    made.assign(mesh.vertex_count(), 0);
-  }
-  auto normal_of = [&](Index v) -> const Vec3& {
-    if (bone_topology && !made[v]) {
-      normals[v] = bone_topology->vertex_normal(v);
-      made[v] = 1;
-    }
-    return normals[v];
-  };
-  out.contacts = contacts_with(inner, bone, reach, 1.0, skip, toward_bone, normal_of);
-  out.report = analyse_stability(out.contacts, direction);
-  std::vector<Vec3> candidates;
-  const std::size_t step = std::max<std::size_t>(1, (press_candidates.size() + 999) / 1000);
-  for (std::size_t i = 0; i < press_candidates.size(); i += step) candidates.push_back(press_candidates[i]);
-  out.press = best_press_point(out.report, candidates);
-  if (out.report.score < 0.5 && !out.report.free_motions.empty())
-    out.extend = extension_with(out.report, out.report.worst_motion, rim, mesh, covered, 15.0, on_covered, normal_of);
+  StabilityResult out = stability_of_contacts(inner, bone, direction, reach, skip, toward_bone, bone_topology);
+  finish_stability(out, bone, press_candidates, rim, covered, on_covered, bone_topology);
   return out;
 }
 

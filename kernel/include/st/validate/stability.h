@@ -164,4 +164,15 @@ StabilityResult guide_stability(const TriangleMesh& inner, const AabbTree& bone,
                                 const std::vector<std::uint8_t>& skip = {}, bool toward_bone = false,
                                 const MeshTopology* bone_topology = nullptr);
 
+/// guide_stability in two parts. The first reads the inner surface and the bone only (the contacts
+/// and the report; press and extension left empty), so it can run before the outer surface is made;
+/// finish_stability adds the press point and the extension hint. Together they give what
+/// guide_stability gives with the same arguments.
+StabilityResult stability_of_contacts(const TriangleMesh& inner, const AabbTree& bone, const Vec3& direction,
+                                      double reach, const std::vector<std::uint8_t>& skip = {},
+                                      bool toward_bone = false, const MeshTopology* bone_topology = nullptr);
+void finish_stability(StabilityResult& result, const AabbTree& bone, const std::vector<Vec3>& press_candidates,
+                      const std::vector<Vec3>& rim, const AabbTree& covered, double on_covered = 0.05,
+                      const MeshTopology* bone_topology = nullptr);
+
 } // namespace st
