@@ -485,10 +485,10 @@ private:
     };
     // Faces far from the other operand are outside it.
     const Verdict far_outside{.exterior = true, .inside = 0};
-    // Faces made or moved here (split pieces, whose new corners are rounded now) are checked after
-    // rounding; unsplit local faces of either operand only where they touch those. Rounding moves no
-    // corner of the operands: mesh_boolean rounds both to float32 before they come here. (Two unsplit
-    // faces cannot cross: the corefinement would have split them.)
+    // Faces made or moved here (split pieces, their new corners rounded now) are checked after rounding;
+    // unsplit local faces of either operand only where they touch those: mesh_boolean rounds the
+    // operands to float32 first, so rounding moves none of their corners, and two unsplit faces cannot
+    // cross (of two operands the corefinement would have split them; of one, it is a solid's).
     std::vector<Index> fresh, unchanged;
     for (int s = 0; s < 2; ++s) {
       const bool reverse = op == BooleanOp::Difference && s == 1;

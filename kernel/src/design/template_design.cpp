@@ -202,7 +202,7 @@ struct Analyses {
 // What the shell's analyses read that does not depend on the shell, made beside it when the insertion
 // direction is known that early (without block-out): the stability's contacts and report, the tree
 // of the fit (over the inner surface) and that of the stability's extension (over the covered bone).
-// `made` is joined before any of it is read; what its making threw is thrown where the analyses throw.
+// `made` is joined before any of it is read; when its making failed, the analyses make it themselves.
 struct PreparedAnalyses {
   std::optional<StabilityResult> stability;
   std::optional<AabbTree> inner_tree, covered_tree;
@@ -266,7 +266,8 @@ void analyse_shell(const AnalysisInputs& in, const TemplateOptions& options, Ana
   PreparedAnalyses* prepared = in.prepared;
   if (prepared) {
     prepared->made->join();
-    if (prepared->failure) std::rethrow_exception(prepared->failure);
+    // Made for another cell size than the shell's (none so far), or failed: made here instead.
+    if (prepared->failure || prepared->resolution != in.resolution) prepared = nullptr;
   }
   const AabbTree* fit_tree = prepared && prepared->inner_tree ? &*prepared->inner_tree : nullptr;
   std::optional<detail::Background> fit;
@@ -279,7 +280,7 @@ void analyse_shell(const AnalysisInputs& in, const TemplateOptions& options, Ana
     const AabbTree& covered = prepared && prepared->covered_tree
                                   ? *prepared->covered_tree
                                   : region_tree.emplace(ins.region.empty() ? in.inner : ins.region);
-    if (prepared && prepared->stability && prepared->resolution == in.resolution) {
+    if (prepared && prepared->stability) {
       out.stability = *prepared->stability;
       finish_stability(*out.stability, *in.bone_tree, in.outer, in.curve, covered, 0.05, &in.bone_topology);
       out.stability_seconds = prepared->stability_seconds + seconds_since(t0);
@@ -386,40 +387,40 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   result.times.inner_segmentation += seconds_since(t0);
 
   // Without block-out the insertion analysis, and then what the shell's analyses read that the shell
-  // does not change (PreparedAnalyses), run beside the shell, at low priority in the time its steps
-  // leave a core idle. The insertion is known (its failure thrown, before what the shell threw) once
-  // the shell is built, before the parts read the bone's tree and the analyses the report.
+  // does not change (PreparedAnalyses), run beside the shell, in the time its steps leave a core idle.
+  // (At normal priority: the design waits for both, and a lowered one cannot be raised again without
+  // privileges; under load from other processes it would starve.) The insertion is known (its failure
+  // thrown, before what the shell threw) once the shell is built, before the parts read the bone's
+  // tree and the analyses the report.
   std::promise<void> insertion_promise;
   std::future<void> insertion_future;
   PreparedAnalyses prepared;
   std::optional<detail::Background> preparing; // declared after what it reads: joined before it goes
   if (options.analyse_insertion && !options.block_out) {
     insertion_future = insertion_promise.get_future();
-    preparing.emplace(
-        [&] {
-          try {
-            analyse();
-          } catch (...) {
-            insertion_promise.set_exception(std::current_exception());
-            return;
-          }
-          insertion_promise.set_value();
-          if (!options.check) return;
-          try {
-            const auto t = Clock::now();
-            const InsertionReport& ins = result.insertion;
-            prepared.resolution = template_detail::shell_resolution(options);
-            prepared.stability =
-                stability_of_contacts(inner.region, *bone_tree, ins.direction,
-                                      contact_reach(options, prepared.resolution), ins.filled, false, &topology);
-            prepared.stability_seconds = seconds_since(t);
-            prepared.covered_tree.emplace(ins.region.empty() ? inner.region : ins.region);
-            if (options.measure_fit) prepared.inner_tree.emplace(inner.region);
-          } catch (...) {
-            prepared.failure = std::current_exception();
-          }
-        },
-        detail::Background::Priority::low);
+    preparing.emplace([&] {
+      try {
+        analyse();
+      } catch (...) {
+        insertion_promise.set_exception(std::current_exception());
+        return;
+      }
+      insertion_promise.set_value();
+      if (!options.check) return;
+      try {
+        const auto t = Clock::now();
+        const InsertionReport& ins = result.insertion;
+        prepared.resolution = template_detail::shell_resolution(options);
+        prepared.stability =
+            stability_of_contacts(inner.region, *bone_tree, ins.direction, contact_reach(options, prepared.resolution),
+                                  ins.filled, false, &topology);
+        prepared.stability_seconds = seconds_since(t);
+        prepared.covered_tree.emplace(ins.region.empty() ? inner.region : ins.region);
+        if (options.measure_fit) prepared.inner_tree.emplace(inner.region);
+      } catch (...) {
+        prepared.failure = std::current_exception();
+      }
+    });
     prepared.made = &*preparing;
   }
   auto insertion_known = [&] {
@@ -535,7 +536,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   };
   std::optional<std::string> failure = design_shell();
   if (failure && unskirted) { // the skirt's doing: the guide ends at the silhouette instead
-    stop_analyses();
+    stop_analyses();          // (a skirt comes with block-out only: nothing that reads `inner` was prepared)
     inner = std::move(*unskirted);
     unskirted.reset(); // a failure now is the guide's own: thrown as it is
     InsertionReport& ins = result.insertion;

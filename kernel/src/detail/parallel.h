@@ -12,12 +12,6 @@
 #include <utility>
 #include <vector>
 
-#ifdef __linux__
-#include <sys/resource.h>
-#include <sys/syscall.h>
-#include <unistd.h>
-#endif
-
 namespace st::detail {
 
 /// Threads a parallel loop uses: the machine's, at most 8.
@@ -52,17 +46,9 @@ template <class Work> void parallel_for(std::size_t n, std::size_t grain, const 
 /// never outlives what it reads, even when the caller leaves by an exception.
 class Background {
 public:
-  /// Priority::low: work that fills the cores the caller's steps leave idle (their parallel loops wait
-  /// at each join for their slowest thread, which a third thread of equal weight would hold back). It
-  /// runs at the lowest scheduling weight, as do the threads its own loops start (Linux; elsewhere at
-  /// the caller's); at once on the caller's thread it keeps the caller's.
-  enum class Priority { normal, low };
-  explicit Background(std::function<void()> work, Priority priority = Priority::normal) : work_(std::move(work)) {
+  explicit Background(std::function<void()> work) : work_(std::move(work)) {
     try {
-      thread_.emplace([this, priority] {
-        if (priority == Priority::low) lower_this_thread();
-        run();
-      });
+      thread_.emplace([this] { run(); });
     } catch (const std::system_error&) {
       run();
     }
@@ -78,12 +64,6 @@ public:
   }
 
 private:
-  static void lower_this_thread() {
-#ifdef __linux__
-    // Per thread on Linux (and inherited by the threads it starts); a failure leaves it as it was.
-    (void)setpriority(PRIO_PROCESS, static_cast<id_t>(::syscall(SYS_gettid)), 19);
-#endif
-  }
   void run() {
     try {
       work_();
