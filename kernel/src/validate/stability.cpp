@@ -456,20 +456,19 @@ ExtensionHint where_to_extend(const StabilityReport& report, const FreeMotion& m
 
 namespace {
 
-// The bone's vertex normals where the contacts and the hint read them: made on first use when the
-// caller has the bone's topology, else all at once.
+// The bone's vertex normals where the contacts and the hint read them, made on first use: one at a
+// time when the caller has the bone's topology, else all at once.
 class BoneNormals {
 public:
-  BoneNormals(const TriangleMesh& mesh, const MeshTopology* topology) : topology_(topology) {
+  BoneNormals(const TriangleMesh& mesh, const MeshTopology* topology) : mesh_(mesh), topology_(topology) {
     if (topology && &topology->mesh() != &mesh) throw InvalidInput("stability: the topology is not the bone's");
-    if (!topology) {
-      normals_ = vertex_normals(mesh);
-      return;
-    }
-    normals_.resize(mesh.vertex_count());
-    made_.assign(mesh.vertex_count(), 0);
   }
   const Vec3& operator()(Index v) {
+    if (normals_.empty()) {
+      if (!topology_) normals_ = vertex_normals(mesh_);
+      normals_.resize(mesh_.vertex_count());
+      made_.assign(topology_ ? mesh_.vertex_count() : 0, 0);
+    }
     if (topology_ && !made_[v]) {
       normals_[v] = topology_->vertex_normal(v);
       made_[v] = 1;
@@ -478,44 +477,56 @@ public:
   }
 
 private:
+  const TriangleMesh& mesh_;
   const MeshTopology* topology_;
   std::vector<Vec3> normals_;
   std::vector<std::uint8_t> made_;
 };
+
+StabilityResult contacts_part(const TriangleMesh& inner, const AabbTree& bone, const Vec3& direction, double reach,
+                              const std::vector<std::uint8_t>& skip, bool toward_bone, BoneNormals& normal_of) {
+  StabilityResult out;
+  out.analysed = true;
+  out.contacts = contacts_with(inner, bone, reach, 1.0, skip, toward_bone, normal_of);
+  out.report = analyse_stability(out.contacts, direction);
+  return out;
+}
+
+void finish_part(StabilityResult& result, const AabbTree& bone, const std::vector<Vec3>& press_candidates,
+                 const std::vector<Vec3>& rim, const AabbTree& covered, double on_covered, BoneNormals& normal_of) {
+  std::vector<Vec3> candidates;
+  const std::size_t step = std::max<std::size_t>(1, (press_candidates.size() + 999) / 1000);
+  for (std::size_t i = 0; i < press_candidates.size(); i += step) candidates.push_back(press_candidates[i]);
+  result.press = best_press_point(result.report, candidates);
+  if (result.report.score < 0.5 && !result.report.free_motions.empty())
+    result.extend = extension_with(result.report, result.report.worst_motion, rim, bone.mesh(), covered, 15.0,
+                                   on_covered, normal_of);
+}
 
 } // namespace
 
 StabilityResult stability_of_contacts(const TriangleMesh& inner, const AabbTree& bone, const Vec3& direction,
                                       double reach, const std::vector<std::uint8_t>& skip, bool toward_bone,
                                       const MeshTopology* bone_topology) {
-  StabilityResult out;
-  out.analysed = true;
   BoneNormals normal_of(bone.mesh(), bone_topology);
-  out.contacts = contacts_with(inner, bone, reach, 1.0, skip, toward_bone, normal_of);
-  out.report = analyse_stability(out.contacts, direction);
-  return out;
+  return contacts_part(inner, bone, direction, reach, skip, toward_bone, normal_of);
 }
 
 void finish_stability(StabilityResult& result, const AabbTree& bone, const std::vector<Vec3>& press_candidates,
                       const std::vector<Vec3>& rim, const AabbTree& covered, double on_covered,
                       const MeshTopology* bone_topology) {
-  std::vector<Vec3> candidates;
-  const std::size_t step = std::max<std::size_t>(1, (press_candidates.size() + 999) / 1000);
-  for (std::size_t i = 0; i < press_candidates.size(); i += step) candidates.push_back(press_candidates[i]);
-  result.press = best_press_point(result.report, candidates);
-  if (result.report.score < 0.5 && !result.report.free_motions.empty()) {
-    BoneNormals normal_of(bone.mesh(), bone_topology);
-    result.extend = extension_with(result.report, result.report.worst_motion, rim, bone.mesh(), covered, 15.0,
-                                   on_covered, normal_of);
-  }
+  BoneNormals normal_of(bone.mesh(), bone_topology);
+  finish_part(result, bone, press_candidates, rim, covered, on_covered, normal_of);
 }
 
+// One set of the bone's normals for both parts.
 StabilityResult guide_stability(const TriangleMesh& inner, const AabbTree& bone, const Vec3& direction, double reach,
                                 const std::vector<Vec3>& press_candidates, const std::vector<Vec3>& rim,
                                 const AabbTree& covered, double on_covered, const std::vector<std::uint8_t>& skip,
                                 bool toward_bone, const MeshTopology* bone_topology) {
-  StabilityResult out = stability_of_contacts(inner, bone, direction, reach, skip, toward_bone, bone_topology);
-  finish_stability(out, bone, press_candidates, rim, covered, on_covered, bone_topology);
+  BoneNormals normal_of(bone.mesh(), bone_topology);
+  StabilityResult out = contacts_part(inner, bone, direction, reach, skip, toward_bone, normal_of);
+  finish_part(out, bone, press_candidates, rim, covered, on_covered, normal_of);
   return out;
 }
 
