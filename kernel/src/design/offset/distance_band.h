@@ -28,7 +28,7 @@ struct BandParams {
   Vec3 origin = Vec3::Zero();
   double h = 1.0;
   double iso = 1.0;
-  double limit = 1.0;       // nodes up to this distance spread
+  double limit = 1.0;       // nodes up to this distance spread and anchor
   double seed_radius = 1.0; // exact distances within this radius of each triangle
   double margin = 0.0;      // front_only: how far behind the border a node may lie and anchor
   bool front_only = true;
