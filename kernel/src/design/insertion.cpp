@@ -62,6 +62,11 @@ bool is_hidden(const Sight& sight, const Vec3& p, const Vec3& a, const Vec3& b, 
   });
 }
 
+/// A face is split into k x k with k = ceil(longest edge / (this * spacing)): a face of one sample's
+/// share of the area (spacing^2 / 2; equilateral, its edges 1.07 spacings) gets one sample, one of four
+/// shares four.
+constexpr double kEdgesPerSpacing = 1.5;
+
 std::vector<Sample> samples_of(const TriangleMesh& region, double spacing, std::size_t stride) {
   std::vector<Sample> out;
   for (Index f = 0; f < region.face_count(); f += static_cast<Index>(stride)) {
@@ -69,7 +74,8 @@ std::vector<Sample> samples_of(const TriangleMesh& region, double spacing, std::
     const Vec3 &a = region.positions[t[0]], &b = region.positions[t[1]], &c = region.positions[t[2]];
     const double area = 0.5 * (b - a).cross(c - a).norm() * static_cast<double>(stride);
     const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-    const int k = spacing > 0.0 ? std::clamp(static_cast<int>(std::ceil(longest / spacing)), 1, 64) : 1;
+    const int k =
+        spacing > 0.0 ? std::clamp(static_cast<int>(std::ceil(longest / (kEdgesPerSpacing * spacing))), 1, 64) : 1;
     const double w = area / (k * k);
     const Vec3 u = (b - a) / k, v = (c - a) / k;
     for (int i = 0; i < k; ++i)

@@ -11,7 +11,8 @@
 // (a box's side wall is reached, the post under a tooth's bulge is not). Bone anywhere, also outside the region,
 // can hide a point. The segment starts a nanometre-scale length off p, so that the bone face p lies
 // on, to rounding, does not count. Faces are sampled by area (each split into
-// k x k equal triangles, k = ceil(longest edge / spacing), one sample at each centre), so the hidden
+// k x k equal triangles, k = ceil(longest edge / (1.5 spacing)), one sample at each centre: a face of
+// one sample's share of the area, spacing^2 / 2, gets one sample), so the hidden
 // area converges as the spacing shrinks: a visibility that is exact per sample, not a test of face
 // normals alone. Where faces are much smaller than a sample's share of the area (spacing^2 / 2; a
 // finely triangulated scan), every stride-th face is sampled; of the faces between, those turned away
