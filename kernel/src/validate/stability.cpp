@@ -465,9 +465,12 @@ public:
   }
   const Vec3& operator()(Index v) {
     if (normals_.empty()) {
-      if (!topology_) normals_ = vertex_normals(mesh_);
-      normals_.resize(mesh_.vertex_count());
-      made_.assign(topology_ ? mesh_.vertex_count() : 0, 0);
+      if (!topology_) {
+        normals_ = vertex_normals(mesh_);
+      } else {
+        normals_.resize(mesh_.vertex_count());
+        made_.assign(mesh_.vertex_count(), 0);
+      }
     }
     if (topology_ && !made_[v]) {
       normals_[v] = topology_->vertex_normal(v);
