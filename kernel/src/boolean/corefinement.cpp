@@ -208,14 +208,14 @@ private:
     std::unordered_map<Vec3, Index, Hash> first;
     for (Index i = 0; i < points_.size(); ++i) {
       const auto [it, inserted] = first.emplace(points_[i], i);
-      if (!inserted) merged |= clusters.join(it->second, i);
+      if (!inserted) merged |= clusters.join_under(it->second, i);
     }
     const double close = short_edge_ / 32.0; // 8 float ulp of the coordinates (short_edge_ is 256)
     for (const SeamSegment& g : seam_) {
       const Index p = g.p - offset, q = g.q - offset;
       if (point_on_second_edge_[p] != point_on_second_edge_[q] &&
           (points_[p] - points_[q]).squaredNorm() <= close * close)
-        merged |= clusters.join(p, q);
+        merged |= clusters.join_under(p, q); // the cluster takes q's coordinates
     }
     // A point that rounds onto a corner of a face it lies in is that corner, a vertex of the operand:
     // the curve passes through the vertex.

@@ -149,28 +149,38 @@ bool inside_by_rays(const Vec3& p, const TriangleMesh& mesh) {
 
 void check_closed_at_curve(const TriangleMesh& out, const std::vector<Index>& fresh,
                            const std::vector<Index>& unchanged) {
-  std::vector<std::uint8_t> at_piece(out.vertex_count(), 0);
+  // The pieces' corners, numbered densely, and the half-edges between two of them of every face,
+  // listed by their first corner: each edge's uses are then a scan of a handful.
+  std::vector<Index> corner(out.vertex_count(), kInvalidIndex);
+  Index corners = 0;
   for (const std::vector<Index>* list : {&fresh, &unchanged})
     for (Index f : *list)
-      for (Index v : out.triangles[f]) at_piece[v] = 1;
-  auto key = [](Index u, Index v) { return std::uint64_t{u} << 32 | v; };
-  std::vector<std::uint64_t> edges; // directed edges between two piece corners, of every face
-  for (const Triangle& t : out.triangles)
-    for (int k = 0; k < 3; ++k)
-      if (at_piece[t[k]] && at_piece[t[(k + 1) % 3]]) edges.push_back(key(t[k], t[(k + 1) % 3]));
-  std::sort(edges.begin(), edges.end());
-  auto count = [&](std::uint64_t e) {
-    const auto [lo, hi] = std::equal_range(edges.begin(), edges.end(), e);
-    return hi - lo;
+      for (Index v : out.triangles[f])
+        if (corner[v] == kInvalidIndex) corner[v] = corners++;
+  std::vector<Index> start(corners + 1, 0);
+  auto each_half_edge = [&](auto&& use) {
+    for (const Triangle& t : out.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const Index u = corner[t[k]], v = corner[t[(k + 1) % 3]];
+        if (u != kInvalidIndex && v != kInvalidIndex) use(u, v);
+      }
   };
+  each_half_edge([&](Index u, Index) { ++start[u + 1]; });
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<Index> to(start.back());
+  {
+    std::vector<Index> fill(start.begin(), start.end() - 1);
+    each_half_edge([&](Index u, Index v) { to[fill[u]++] = v; });
+  }
+  auto count = [&](Index u, Index v) { return std::count(to.begin() + start[u], to.begin() + start[u + 1], v); };
   for (const std::vector<Index>* list : {&fresh, &unchanged})
     for (Index f : *list) {
       const Triangle& t = out.triangles[f];
       for (int k = 0; k < 3; ++k) {
-        const Index u = t[k], v = t[(k + 1) % 3];
-        if (count(key(u, v)) != 1 || count(key(v, u)) != 1)
+        const Index u = corner[t[k]], v = corner[t[(k + 1) % 3]];
+        if (count(u, v) != 1 || count(v, u) != 1)
           throw Degenerate{"the result open or doubled at the intersection curve, near " +
-                           detail::where(out.positions[u])};
+                           detail::where(out.positions[t[k]])};
       }
     }
 }

@@ -1,6 +1,8 @@
 #pragma once
 // Union-find (disjoint sets) over the indices 0 .. n-1: connected components of vertices, pieces
-// or fans. Path halving; join(a, b) puts a's set under b's root.
+// or fans. Path halving; the root of a set is its smallest index (join links the larger root under
+// the smaller), which keeps the trees shallow where a mesh's faces are joined in order: linking one
+// way regardless, a fan joined vertex by vertex became a chain (3 ms instead of 0.8 for 86k faces).
 
 #include "st/core/mesh.h"
 
@@ -20,14 +22,26 @@ public:
     std::iota(parent_.begin(), parent_.end(), Index{0});
   }
 
-  /// The root of i's set.
+  /// The root of i's set: its smallest index.
   Index find(Index i) {
     while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
     return i;
   }
 
-  /// Joins the sets of a and b under b's root; true when they were apart.
+  /// Joins the sets of a and b (under the smaller of their roots); true when they were apart.
   bool join(Index a, Index b) {
+    const Index ra = find(a);
+    const Index rb = find(b);
+    if (ra == rb) return false;
+    if (ra < rb) parent_[rb] = ra;
+    else parent_[ra] = rb;
+    return true;
+  }
+
+  /// Joins the sets of a and b under b's root, whichever root is smaller: for a caller whose roots
+  /// stand for their sets (a cluster of points takes its root's coordinates) and that chooses which.
+  /// The root is then no longer the set's smallest index.
+  bool join_under(Index a, Index b) {
     const Index ra = find(a);
     const Index rb = find(b);
     parent_[ra] = rb;
