@@ -343,7 +343,10 @@ int AabbTree::split_pair(Index a, Index b, std::array<std::pair<Index, Index>, 3
   return 2;
 }
 
-template <class Visit> void AabbTree::self_pairs(Index a, Index b, Visit& visit) const {
+template <class Visit>
+void AabbTree::self_pairs(Index a, Index b, Visit& visit, const std::function<bool(Index, Index)>* apart) const {
+  if (apart && a == b && nodes_[a].end - nodes_[a].begin <= kMaxApart && (*apart)(nodes_[a].begin, nodes_[a].end))
+    return;
   std::array<std::pair<Index, Index>, 3> children;
   const int count = split_pair(a, b, children);
   if (count == 0) { // two leaves
@@ -353,7 +356,7 @@ template <class Visit> void AabbTree::self_pairs(Index a, Index b, Visit& visit)
       for (Index j = (a == b ? i + 1 : nb.begin); j < nb.end; ++j)
         if (face_boxes_[i].overlaps(face_boxes_[j])) visit(faces_[i], faces_[j]);
   }
-  for (int k = 0; k < count; ++k) self_pairs(children[k].first, children[k].second, visit);
+  for (int k = 0; k < count; ++k) self_pairs(children[k].first, children[k].second, visit, apart);
 }
 
 void AabbTree::for_each_overlapping_pair(const std::function<void(Index, Index)>& visit) const {
@@ -365,13 +368,23 @@ std::vector<std::pair<Index, Index>> AabbTree::overlapping_pairs() const {
 }
 
 std::vector<std::pair<Index, Index>> AabbTree::overlapping_pairs(const std::function<bool(Index, Index)>& keep) const {
+  return overlapping_pairs(keep, nullptr);
+}
+
+std::vector<std::pair<Index, Index>> AabbTree::overlapping_pairs(const std::function<bool(Index, Index)>& keep,
+                                                                 const std::function<bool(Index, Index)>& apart) const {
   if (nodes_.empty()) return {};
+  const std::function<bool(Index, Index)>* const passing = apart ? &apart : nullptr;
   // The first levels of self_pairs' recursion, expanded into node pairs (tasks), then each task's
   // pairs on its own thread, gathered in task order.
   std::vector<std::pair<Index, Index>> tasks{{0, 0}};
   for (int level = 0; level < 6 && tasks.size() < 256; ++level) {
     std::vector<std::pair<Index, Index>> next;
     for (const auto& [a, b] : tasks) {
+      if (passing && a == b && nodes_[a].end - nodes_[a].begin <= kMaxApart) { // asked on its thread
+        next.emplace_back(a, b);
+        continue;
+      }
       std::array<std::pair<Index, Index>, 3> children;
       const int count = split_pair(a, b, children);
       if (count == 0) next.emplace_back(a, b); // two leaves: a task of its own
@@ -386,7 +399,7 @@ std::vector<std::pair<Index, Index>> AabbTree::overlapping_pairs(const std::func
       auto visit = [&](Index x, Index y) {
         if (keep(x, y)) into.emplace_back(x, y);
       };
-      self_pairs(tasks[i].first, tasks[i].second, visit);
+      self_pairs(tasks[i].first, tasks[i].second, visit, passing);
     }
   });
   std::size_t total = 0;

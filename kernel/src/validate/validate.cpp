@@ -7,6 +7,7 @@
 #include "st/core/predicates.h"
 #include "st/core/topology.h"
 #include "st/boolean/triangle_intersection.h"
+#include "validate/embedded_patch.h"
 
 #include <algorithm>
 #include <array>
@@ -198,23 +199,34 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
     // The exact tests run on the threads that find the pairs (overlapping boxes) in the tree.
     std::optional<AabbTree> own_tree;
     const AabbTree& tree = options.tree ? *options.tree : own_tree.emplace(mesh);
-    const std::vector<std::pair<Index, Index>> crossing = tree.overlapping_pairs([&](Index a, Index b) {
-      const Triangle& ta = mesh.triangles[a];
-      const Triangle& tb = mesh.triangles[b];
-      // Two faces of a star fan meet only where they share a corner or an edge (shared by both faces
-      // of the fan around each of its ends): nothing to test. Most pairs of a smooth surface are such.
-      int shared = 0;
-      bool at_star = false;
-      for (const Index u : ta)
-        if (u == tb[0] || u == tb[1] || u == tb[2]) {
-          ++shared;
-          at_star = at_star || star[u];
-        }
-      if (at_star && shared < 3) return false;
-      const std::array<Vec3, 3> pa{mesh.positions[ta[0]], mesh.positions[ta[1]], mesh.positions[ta[2]]};
-      const std::array<Vec3, 3> pb{mesh.positions[tb[0]], mesh.positions[tb[1]], mesh.positions[tb[2]]};
-      return mesh_triangles_intersect(ta, pa, tb, pb);
-    });
+    // Nodes of the tree whose faces form a patch that projects one to one onto an axis plane are
+    // passed over whole (embedded_patch.h): their faces meet only where they share corners or edges.
+    const std::span<const Index> order = tree.ordered_faces();
+    std::vector<Index> position(faces, kInvalidIndex);
+    for (std::size_t i = 0; i < order.size(); ++i) position[order[i]] = static_cast<Index>(i);
+    const std::vector<std::array<Index, 6>> runs =
+        validate_detail::turn_runs(validate_detail::projection_turns(mesh), order);
+    const validate_detail::PatchSource patches{mesh, opp, order, position, runs};
+    const auto apart = [&](Index begin, Index end) { return validate_detail::embedded(patches, begin, end); };
+    const std::vector<std::pair<Index, Index>> crossing = tree.overlapping_pairs(
+        [&](Index a, Index b) {
+          const Triangle& ta = mesh.triangles[a];
+          const Triangle& tb = mesh.triangles[b];
+          // Two faces of a star fan meet only where they share a corner or an edge (shared by both faces
+          // of the fan around each of its ends): nothing to test. Most pairs of a smooth surface are such.
+          int shared = 0;
+          bool at_star = false;
+          for (const Index u : ta)
+            if (u == tb[0] || u == tb[1] || u == tb[2]) {
+              ++shared;
+              at_star = at_star || star[u];
+            }
+          if (at_star && shared < 3) return false;
+          const std::array<Vec3, 3> pa{mesh.positions[ta[0]], mesh.positions[ta[1]], mesh.positions[ta[2]]};
+          const std::array<Vec3, 3> pb{mesh.positions[tb[0]], mesh.positions[tb[1]], mesh.positions[tb[2]]};
+          return mesh_triangles_intersect(ta, pa, tb, pb);
+        },
+        apart);
     for (const auto& [a, b] : crossing) {
       if (r.self_intersections >= options.max_reported) break;
       ++r.self_intersections;

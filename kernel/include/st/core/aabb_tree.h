@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -118,6 +119,19 @@ public:
   [[nodiscard]] std::vector<std::pair<Index, Index>>
   overlapping_pairs(const std::function<bool(Index, Index)>& keep) const;
 
+  /// The same pairs, passing over those within any node for which apart(begin, end) is true: a caller
+  /// that can show that no two of the node's triangles, ordered_faces()[begin, end), meet but where
+  /// they share corners or edges. Asked from the top down for the nodes of at most kMaxApart
+  /// triangles, on the threads that find the pairs (apart must be safe to call from several); the same
+  /// pairs in the same order whatever the number of threads.
+  [[nodiscard]] std::vector<std::pair<Index, Index>>
+  overlapping_pairs(const std::function<bool(Index, Index)>& keep,
+                    const std::function<bool(Index, Index)>& apart) const;
+  static constexpr Index kMaxApart = 8192;
+
+  /// The triangles in the tree's order: a node's are a range of it.
+  [[nodiscard]] std::span<const Index> ordered_faces() const { return faces_; }
+
   /// Calls visit(fa, fb) for every triangle fa of this tree and fb of `other` whose boxes overlap.
   void for_each_overlapping_pair(const AabbTree& other, const std::function<void(Index, Index)>& visit) const;
 
@@ -181,10 +195,11 @@ private:
   /// The node pairs self_pairs(a, b) recurses into (into[0..count)): -1 when the boxes miss, 0 for two
   /// leaves (their triangles are compared), else 2 or 3.
   int split_pair(Index a, Index b, std::array<std::pair<Index, Index>, 3>& into) const;
-  /// Calls visit(fa, fb) for the pairs of triangles under nodes a and b whose boxes overlap. Defined
-  /// in aabb_tree.cpp, used there only (the visitor inlined: a self-intersection check visits a
-  /// million pairs).
-  template <class Visit> void self_pairs(Index a, Index b, Visit& visit) const;
+  /// Calls visit(fa, fb) for the pairs of triangles under nodes a and b whose boxes overlap, but those
+  /// within a node apart(begin, end) passes over (apart may be null). Defined in aabb_tree.cpp, used
+  /// there only (the visitor inlined: a self-intersection check visits a million pairs).
+  template <class Visit>
+  void self_pairs(Index a, Index b, Visit& visit, const std::function<bool(Index, Index)>* apart = nullptr) const;
   void cross_pairs(Index a, const AabbTree& other, Index b, const std::function<void(Index, Index)>& visit) const;
 
   const TriangleMesh& mesh_;
