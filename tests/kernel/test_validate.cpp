@@ -273,8 +273,8 @@ std::size_t crossing_pairs_in_tree(const TriangleMesh& mesh) {
 // seen from above, one and a half turns around an axis, tilted one way across the first turn and the
 // other way across the last half: its layers cross along a circle, and only their borders (a spiral,
 // whose projection crosses itself) tell. Both exact (a regular grid, the crossing along grid lines)
-// and moved at random; then real scans with crossings of their own, and a fine cube with corners
-// pushed through: the same count as testing every pair of overlapping boxes.
+// and moved at random; then real scans with crossings of their own, a slit disc, a ring cut open and
+// a fine cube with corners pushed through: the same count as testing every pair of overlapping boxes.
 TEST(SolidCheck, PassesOverOnlyPatchesThatCannotCrossThemselves) {
   SolidOptions all;
   all.max_reported = std::numeric_limits<std::size_t>::max();
@@ -297,6 +297,39 @@ TEST(SolidCheck, PassesOverOnlyPatchesThatCannotCrossThemselves) {
     EXPECT_GT(expected, 0u) << name;
     EXPECT_EQ(check_solid(scan, all).self_intersections, expected) << name;
   }
+  // A curved disc slit from its border to its centre, the slit's two sides on separate vertices at the
+  // same places: its faces touch across the slit, and the border loop runs along both sides of it
+  // (collinear edges that overlap, not a simple polygon).
+  constexpr int kSlit = 16;
+  TriangleMesh slit = test::make_grid_patch(2 * kSlit, -1.0, 1.0, -1.0, 1.0,
+                                            [](double u, double v) { return Vec3(u, v, 0.2 * (u * u + v * v)); });
+  std::map<Index, Index> copy; // grid vertex on the slit -> its copy below it
+  for (int i = 0; i < kSlit; ++i) {
+    const Index v = static_cast<Index>(kSlit * (2 * kSlit + 1) + i);
+    copy[v] = slit.vertex_count();
+    slit.positions.push_back(slit.positions[v]);
+  }
+  for (Triangle& t : slit.triangles) {
+    const Vec3 centre = (slit.positions[t[0]] + slit.positions[t[1]] + slit.positions[t[2]]) / 3.0;
+    if (centre.x() < 0.0 && centre.y() < 0.0)
+      for (Index& v : t)
+        if (const auto it = copy.find(v); it != copy.end()) v = it->second;
+  }
+  const std::size_t across = crossing_pairs_in_tree(slit);
+  EXPECT_GT(across, 0u);
+  EXPECT_EQ(check_solid(slit, all).self_intersections, across);
+  // A curved ring cut open along a radius, the cut's two sides on separate vertices at the same places:
+  // one border loop whose two cut sides lie on each other, apart along the loop (no fold at a corner).
+  const TriangleMesh ring = test::make_grid_patch(32, 0.0, 2.0 * std::numbers::pi, 0.5, 1.0, [](double a, double r) {
+    const double angle = a >= 2.0 * std::numbers::pi ? 0.0 : a; // the cut's far side exactly on the near one
+    return Vec3(r * std::cos(angle), r * std::sin(angle), 0.2 * r * r);
+  });
+  const std::size_t along_cut = crossing_pairs_in_tree(ring);
+  EXPECT_GT(along_cut, 0u);
+  EXPECT_EQ(check_solid(ring, all).self_intersections, along_cut);
+  TriangleMesh not_a_number = make_icosphere(10.0, 4); // a corner with no place is in no patch
+  not_a_number.positions[7].y() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(check_solid(not_a_number, all).valid());
   const TriangleMesh cube = subdivided_cube(40);
   EXPECT_TRUE(check_solid(cube).valid());
   std::mt19937 rng(3);

@@ -78,6 +78,10 @@ std::vector<std::uint8_t> projection_turns(const TriangleMesh& mesh) {
     for (std::size_t f = begin; f < end; ++f) {
       const Triangle& t = mesh.triangles[f];
       std::uint8_t bits = 0;
+      if (!mesh.positions[t[0]].allFinite() || !mesh.positions[t[1]].allFinite() || !mesh.positions[t[2]].allFinite()) {
+        turns[f] = 0; // no patch holds it: its pairs are all tested
+        continue;
+      }
       for (int k = 0; k < 3; ++k) {
         const Point2 a = dropped(mesh.positions[t[0]], k), b = dropped(mesh.positions[t[1]], k),
                      c = dropped(mesh.positions[t[2]], k);

@@ -21,7 +21,7 @@ namespace st::validate_detail {
 
 /// Per face, the axis projections in which it turns one way: bit 2k when its corners, projected along
 /// axis k (coordinates k+1 and k+2, in that order), turn counterclockwise, bit 2k+1 when clockwise.
-/// A face that projects to a segment along every axis has none.
+/// A face that projects to a segment along every axis, or with a corner that is not finite, has none.
 std::vector<std::uint8_t> projection_turns(const TriangleMesh& mesh);
 
 /// Per place i in `order` (faces) and turn bit b, the first place at or after i whose face lacks bit b
