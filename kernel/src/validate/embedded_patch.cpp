@@ -77,11 +77,9 @@ std::vector<std::uint8_t> projection_turns(const TriangleMesh& mesh) {
   detail::parallel_for(mesh.face_count(), 4096, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f) {
       const Triangle& t = mesh.triangles[f];
+      if (!mesh.positions[t[0]].allFinite() || !mesh.positions[t[1]].allFinite() || !mesh.positions[t[2]].allFinite())
+        continue; // no turn: no patch holds it, its pairs are all tested
       std::uint8_t bits = 0;
-      if (!mesh.positions[t[0]].allFinite() || !mesh.positions[t[1]].allFinite() || !mesh.positions[t[2]].allFinite()) {
-        turns[f] = 0; // no patch holds it: its pairs are all tested
-        continue;
-      }
       for (int k = 0; k < 3; ++k) {
         const Point2 a = dropped(mesh.positions[t[0]], k), b = dropped(mesh.positions[t[1]], k),
                      c = dropped(mesh.positions[t[2]], k);
@@ -95,31 +93,32 @@ std::vector<std::uint8_t> projection_turns(const TriangleMesh& mesh) {
   return turns;
 }
 
-std::vector<std::array<Index, 6>> turn_runs(const std::vector<std::uint8_t>& turns, std::span<const Index> order) {
+Patches::Patches(const TriangleMesh& mesh, const std::vector<Index>& opposite, const std::vector<std::uint8_t>& turns,
+                 std::span<const Index> order)
+    : mesh_(mesh), opposite_(opposite), order_(order), position_(mesh.face_count(), kInvalidIndex),
+      runs_(order.size() + 1) {
   const Index n = static_cast<Index>(order.size());
-  std::vector<std::array<Index, 6>> runs(n + 1);
-  runs[n].fill(n);
+  for (Index i = 0; i < n; ++i) position_[order[i]] = i;
+  runs_[n].fill(n);
   for (Index i = n; i-- > 0;)
-    for (int b = 0; b < 6; ++b) runs[i][b] = (turns[order[i]] >> b) & 1u ? runs[i + 1][b] : i;
-  return runs;
+    for (int b = 0; b < 6; ++b) runs_[i][b] = (turns[order[i]] >> b) & 1u ? runs_[i + 1][b] : i;
 }
 
-bool embedded(const PatchSource& source, Index begin, Index end) {
-  const TriangleMesh& mesh = source.mesh;
+bool Patches::embedded(Index begin, Index end) const {
   int bit = 0;
-  while (bit < 6 && source.runs[begin][bit] < end) ++bit;
+  while (bit < 6 && runs_[begin][bit] < end) ++bit;
   if (bit == 6) return false;
   const int axis = bit / 2;
 
   // The border: half-edges whose partner is missing or outside the patch, as (from, to) corners.
   std::vector<std::pair<Index, Index>> border;
   for (Index i = begin; i < end; ++i) {
-    const Index f = source.order[i];
-    const Triangle& t = mesh.triangles[f];
+    const Index f = order_[i];
+    const Triangle& t = mesh_.triangles[f];
     for (Index k = 0; k < 3; ++k) {
-      const Index o = source.opposite[3 * f + k];
+      const Index o = opposite_[3 * f + k];
       if (o != kInvalidIndex) {
-        const Index at = source.position[o / 3];
+        const Index at = position_[o / 3];
         if (at >= begin && at < end) continue;
       }
       border.emplace_back(t[k], t[(k + 1) % 3]);
@@ -135,7 +134,7 @@ bool embedded(const PatchSource& source, Index begin, Index end) {
   const Index start = border.front().first;
   Index v = start;
   do {
-    loop.push_back(dropped(mesh.positions[v], axis));
+    loop.push_back(dropped(mesh_.positions[v], axis));
     const auto next = std::lower_bound(border.begin(), border.end(), std::pair<Index, Index>{v, 0});
     if (next == border.end() || next->first != v) return false;
     v = next->second;

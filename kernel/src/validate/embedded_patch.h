@@ -24,21 +24,27 @@ namespace st::validate_detail {
 /// A face that projects to a segment along every axis, or with a corner that is not finite, has none.
 std::vector<std::uint8_t> projection_turns(const TriangleMesh& mesh);
 
-/// Per place i in `order` (faces) and turn bit b, the first place at or after i whose face lacks bit b
-/// (order.size() for none): a range of order turns one way in b when the range ends before it.
-std::vector<std::array<Index, 6>> turn_runs(const std::vector<std::uint8_t>& turns, std::span<const Index> order);
+/// The patches of a mesh that are ranges of `order` (the faces of a tree, in its order), for
+/// check_solid to ask about its tree's nodes.
+class Patches {
+public:
+  /// `opposite`: per half-edge 3f+k, its partner (kInvalidIndex for none); `turns`:
+  /// projection_turns(mesh). Keeps references to all four.
+  Patches(const TriangleMesh& mesh, const std::vector<Index>& opposite, const std::vector<std::uint8_t>& turns,
+          std::span<const Index> order);
 
-/// The faces order[begin, end) of a mesh, for embedded().
-struct PatchSource {
-  const TriangleMesh& mesh;
-  const std::vector<Index>& opposite;            ///< per half-edge 3f+k, its partner; kInvalidIndex for none
-  std::span<const Index> order;                  ///< faces, so that a patch is a range of it
-  const std::vector<Index>& position;            ///< per face, its place in order
-  const std::vector<std::array<Index, 6>>& runs; ///< turn_runs(projection_turns(mesh), order)
+  /// Whether the faces order[begin, end) form a patch as described above: no two of them meet but
+  /// where they share a corner or an edge. False says nothing.
+  [[nodiscard]] bool embedded(Index begin, Index end) const;
+
+private:
+  const TriangleMesh& mesh_;
+  const std::vector<Index>& opposite_;
+  std::span<const Index> order_;
+  std::vector<Index> position_; // per face, its place in order
+  // Per place i in order and turn bit b, the first place at or after i whose face lacks bit b
+  // (order.size() for none): a range of order turns one way in b when the range ends before it.
+  std::vector<std::array<Index, 6>> runs_;
 };
-
-/// Whether the faces order[begin, end) form a patch as described above: no two of them meet but
-/// where they share a corner or an edge. False says nothing.
-bool embedded(const PatchSource& source, Index begin, Index end);
 
 } // namespace st::validate_detail

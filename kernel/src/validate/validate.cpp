@@ -53,8 +53,10 @@ namespace {
 // axis plane most across it: every face, projected, turns the same way about v, and the edges
 // opposite v (a closed cycle) wind once around it, so that the projected faces tile the turn about v
 // once. The fan is then the graph of a function over that plane, and two of its faces meet only
-// where they share a corner or an edge. Exact (orient2d on coordinates dropped, not rounded).
-bool star_fan(const TriangleMesh& mesh, Index v, std::span<const Index> around) {
+// where they share a corner or an edge. Exact (orient2d on coordinates dropped, not rounded); the
+// faces' turns are `turns` (validate_detail::projection_turns).
+bool star_fan(const TriangleMesh& mesh, Index v, std::span<const Index> around,
+              const std::vector<std::uint8_t>& turns) {
   Vec3 sum = Vec3::Zero();
   for (const Index f : around) sum += triangle_normal(mesh, f);
   int axis = 0;
@@ -70,9 +72,8 @@ bool star_fan(const TriangleMesh& mesh, Index v, std::span<const Index> around) 
   for (const Index f : around) {
     const Triangle& t = mesh.triangles[f];
     const int k = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+    if (!(turns[f] & (1u << (2 * axis + (turn > 0 ? 0 : 1))))) return false; // (v, a, b) turns as the face
     const std::array<double, 2> a = projected(t[(k + 1) % 3]), b = projected(t[(k + 2) % 3]);
-    const int o = orient2d(c.data(), a.data(), b.data());
-    if (o != turn) return false;
     // The edge a -> b across the half-line from c along +x (Sunday's crossing rule; exact).
     if (a[1] <= c[1]) {
       if (b[1] > c[1] && orient2d(a.data(), b.data(), c.data()) > 0) ++winding;
@@ -153,6 +154,7 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
   // Vertex fans: one walk around each vertex through manifold edges must reach all of its faces.
   // A closed fan that is a height field over an axis plane (star_fan) cannot cross itself.
   r.components = component_count(mesh, opp);
+  const std::vector<std::uint8_t> turns = validate_detail::projection_turns(mesh);
   std::vector<std::uint8_t> star(mesh.vertex_count(), 0);
   {
     const std::size_t vertices = mesh.vertex_count();
@@ -188,7 +190,7 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
           ++c.fans;
           c.note(mesh.positions[v]);
         } else if (closed_fan) {
-          star[v] = star_fan(mesh, v, around) ? 1 : 0;
+          star[v] = star_fan(mesh, v, around, turns) ? 1 : 0;
         }
       }
     });
@@ -201,13 +203,8 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
     const AabbTree& tree = options.tree ? *options.tree : own_tree.emplace(mesh);
     // Nodes of the tree whose faces form a patch that projects one to one onto an axis plane are
     // passed over whole (embedded_patch.h): their faces meet only where they share corners or edges.
-    const std::span<const Index> order = tree.ordered_faces();
-    std::vector<Index> position(faces, kInvalidIndex);
-    for (std::size_t i = 0; i < order.size(); ++i) position[order[i]] = static_cast<Index>(i);
-    const std::vector<std::array<Index, 6>> runs =
-        validate_detail::turn_runs(validate_detail::projection_turns(mesh), order);
-    const validate_detail::PatchSource patches{mesh, opp, order, position, runs};
-    const auto apart = [&](Index begin, Index end) { return validate_detail::embedded(patches, begin, end); };
+    const validate_detail::Patches patches(mesh, opp, turns, tree.ordered_faces());
+    const auto apart = [&](Index begin, Index end) { return patches.embedded(begin, end); };
     const std::vector<std::pair<Index, Index>> crossing = tree.overlapping_pairs(
         [&](Index a, Index b) {
           const Triangle& ta = mesh.triangles[a];
