@@ -36,6 +36,10 @@ public:
   [[nodiscard]] std::span<const Index> faces_of(Index v) const {
     return {face_list_.data() + offsets_[v], face_list_.data() + offsets_[v + 1]};
   }
+  /// Where faces_of(v) starts in the concatenation faces_of(0), faces_of(1), ... (of
+  /// corner_count() entries): data kept per entry beside the topology is indexed by it.
+  [[nodiscard]] Index row_start(Index v) const { return offsets_[v]; }
+  [[nodiscard]] std::size_t corner_count() const { return face_list_.size(); }
 
   /// How the other faces around the edge of half-edge h use it: `reverse` of them run it the other way
   /// (`opposite` is the last one's half-edge), `same` run it the same way, and `lowest` is the smallest
