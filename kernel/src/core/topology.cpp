@@ -21,6 +21,43 @@ MeshTopology::MeshTopology(const TriangleMesh& mesh) : mesh_(mesh) {
     for (Index v : mesh.triangles[f]) face_list_[fill[v]++] = f;
 }
 
+CornerTable::CornerTable(const MeshTopology& topology, const std::function<bool(Index)>& skip)
+    : topology_(topology), corners_(topology.face_list_.size()) {
+  const TriangleMesh& mesh = topology.mesh_;
+  detail::parallel_for(mesh.vertex_count(), 4096, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (Index v = static_cast<Index>(begin); v < end; ++v) {
+      Corner* row = corners_.data() + topology.offsets_[v];
+      for (const Index g : topology.faces_of(v)) {
+        const Triangle& t = mesh.triangles[g];
+        const Index k = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+        *row++ = skip(g) ? Corner{3 * g + k, kInvalidIndex, kInvalidIndex}
+                         : Corner{3 * g + k, t[(k + 1) % 3], t[(k + 2) % 3]};
+      }
+    }
+  });
+}
+
+MeshTopology::EdgeUses CornerTable::edge_uses(Index h) const {
+  // As MeshTopology::edge_uses: the faces other than h's around b that run the edge b -> a (its
+  // half-edge b's out) or a -> b (its half-edge the one into b).
+  const Index f = h / 3, a = topology_.from_vertex(h), b = topology_.to_vertex(h);
+  MeshTopology::EdgeUses uses;
+  const Corner* const row_end = corners_.data() + topology_.offsets_[b + 1];
+  for (const Corner* row = corners_.data() + topology_.offsets_[b]; row != row_end; ++row) {
+    if (row->out / 3 == f) continue;
+    Index on_edge = kInvalidIndex;
+    if (row->next == a) {
+      ++uses.reverse;
+      uses.opposite = on_edge = row->out;
+    } else if (row->prev == a) {
+      ++uses.same;
+      on_edge = prev_halfedge(row->out);
+    }
+    if (on_edge < uses.lowest) uses.lowest = on_edge;
+  }
+  return uses;
+}
+
 Index MeshTopology::opposite(Index h) const {
   const EdgeUses uses = edge_uses(h, [](Index) { return false; });
   return (uses.reverse == 1 && uses.same == 0) ? uses.opposite : kInvalidIndex;

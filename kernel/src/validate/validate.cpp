@@ -120,48 +120,9 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
   };
 
   // Edges, from the faces around their ends: each edge is counted once, at the first of its half-edges
-  // (faces with a repeated corner left out); the opposite of every half-edge comes with it. Per entry
-  // of each vertex's faces, v's half-edge out of the face and the corners after and before v there
-  // (none in a face with a repeated corner): an edge a -> b is then found among b's entries without
-  // reading their faces again (MeshTopology::edge_uses, on a table).
+  // (faces with a repeated corner left out); the opposite of every half-edge comes with it.
   const MeshTopology topology(mesh);
-  struct Corner {
-    Index out, next, prev;
-  };
-  std::vector<Corner> corners(topology.corner_count());
-  detail::parallel_for(mesh.vertex_count(), kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (Index v = static_cast<Index>(begin); v < end; ++v) {
-      Corner* row = corners.data() + topology.row_start(v);
-      for (const Index g : topology.faces_of(v)) {
-        const Triangle& t = mesh.triangles[g];
-        const Index k = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
-        *row++ = repeats(g) ? Corner{3 * g + k, kInvalidIndex, kInvalidIndex}
-                            : Corner{3 * g + k, t[(k + 1) % 3], t[(k + 2) % 3]};
-      }
-    }
-  });
-  // edge_uses(h, repeats), from the table: the faces other than h's around b = to(h) that run a -> b
-  // the other way (b -> a: `reverse`, its half-edge b's out) or the same way (its half-edge the one
-  // into b).
-  auto edge_uses = [&](Index h, Index a, Index b) {
-    MeshTopology::EdgeUses uses;
-    const Index f = h / 3;
-    const Corner* row = corners.data() + topology.row_start(b);
-    const Corner* const row_end = corners.data() + topology.row_start(b + 1);
-    for (; row != row_end; ++row) {
-      if (row->out / 3 == f) continue;
-      Index on_edge = kInvalidIndex;
-      if (row->next == a) {
-        ++uses.reverse;
-        uses.opposite = on_edge = row->out;
-      } else if (row->prev == a) {
-        ++uses.same;
-        on_edge = prev_halfedge(row->out);
-      }
-      if (on_edge < uses.lowest) uses.lowest = on_edge;
-    }
-    return uses;
-  };
+  const CornerTable corners(topology, repeats);
   std::vector<Index> opp(3 * faces, kInvalidIndex);
   {
     std::vector<Found> chunks((faces + kGrain - 1) / kGrain);
@@ -176,7 +137,7 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
         if (repeats(f)) continue;
         for (Index k = 0; k < 3; ++k) {
           const Index h = 3 * f + k;
-          const MeshTopology::EdgeUses uses = edge_uses(h, t[k], t[(k + 1) % 3]);
+          const MeshTopology::EdgeUses uses = corners.edge_uses(h);
           if (uses.reverse == 1 && uses.same == 0) opp[h] = uses.opposite;
           if (uses.lowest < h) continue;
           const int total = 1 + uses.reverse + uses.same;

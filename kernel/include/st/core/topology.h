@@ -12,6 +12,7 @@
 
 #include "st/core/mesh.h"
 
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -36,10 +37,6 @@ public:
   [[nodiscard]] std::span<const Index> faces_of(Index v) const {
     return {face_list_.data() + offsets_[v], face_list_.data() + offsets_[v + 1]};
   }
-  /// Where faces_of(v) starts in the concatenation faces_of(0), faces_of(1), ... (of
-  /// corner_count() entries): data kept per entry beside the topology is indexed by it.
-  [[nodiscard]] Index row_start(Index v) const { return offsets_[v]; }
-  [[nodiscard]] std::size_t corner_count() const { return face_list_.size(); }
 
   /// How the other faces around the edge of half-edge h use it: `reverse` of them run it the other way
   /// (`opposite` is the last one's half-edge), `same` run it the same way, and `lowest` is the smallest
@@ -80,9 +77,30 @@ public:
   [[nodiscard]] Vec3 vertex_normal(Index v) const;
 
 private:
+  friend class CornerTable;
   const TriangleMesh& mesh_;
   std::vector<Index> offsets_;
   std::vector<Index> face_list_;
+};
+
+/// MeshTopology::edge_uses(h, skip) for meshes whose every edge is asked about (a solid check): per
+/// entry of each vertex's faces, the vertex's half-edge out of the face and the corners after and
+/// before it there (none in a face `skip` leaves out), made once on all threads, so that an edge is
+/// found among its end's entries without reading their faces again. Keeps a reference.
+class CornerTable {
+public:
+  CornerTable(const MeshTopology& topology, const std::function<bool(Index)>& skip);
+  CornerTable(MeshTopology&&, const std::function<bool(Index)>&) = delete;
+
+  /// The same as topology.edge_uses(h, skip), for h in a face skip does not leave out.
+  [[nodiscard]] MeshTopology::EdgeUses edge_uses(Index h) const;
+
+private:
+  struct Corner {
+    Index out, next, prev;
+  };
+  const MeshTopology& topology_;
+  std::vector<Corner> corners_; // parallel to the topology's face rows
 };
 
 /// Border loops of a mesh whose borders are simple (each border vertex has one outgoing border
