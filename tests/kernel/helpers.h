@@ -182,6 +182,29 @@ inline double winding_number(const TriangleMesh& mesh, const Vec3& p) {
   return sum / (4.0 * std::numbers::pi);
 }
 
+/// Meshes whose edges are not all shared by two faces: an icosphere with a hole, a turned face, a
+/// doubled face, a face over another the other way round, and faces with a repeated corner; an open
+/// grid patch, and the patch with its faces shuffled (each vertex's faces then not in the order of
+/// their corners) and one doubled.
+inline std::vector<TriangleMesh> awkward_meshes() {
+  std::vector<TriangleMesh> meshes(5, make_icosphere(10.0, 3));
+  meshes[0].triangles.erase(meshes[0].triangles.begin() + 7);
+  std::swap(meshes[1].triangles[11][1], meshes[1].triangles[11][2]);
+  meshes[2].triangles.push_back(meshes[2].triangles[5]);
+  meshes[3].triangles.push_back({meshes[3].triangles[5][0], meshes[3].triangles[5][2], meshes[3].triangles[5][1]});
+  meshes[4].triangles.push_back({meshes[4].triangles[5][0], meshes[4].triangles[5][0], meshes[4].triangles[5][1]});
+  meshes[4].triangles[9][2] = meshes[4].triangles[9][1];
+  meshes[4].triangles.push_back({meshes[4].triangles[20][1], meshes[4].triangles[20][1], meshes[4].triangles[20][1]});
+  TriangleMesh grid = make_grid_patch(12, 0.0, 1.0, 0.0, 1.0,
+                                      [](double u, double v) { return Vec3(u, v, 0.1 * std::sin(3.0 * u + v)); });
+  meshes.push_back(grid);
+  for (std::size_t f = 0; f < grid.triangles.size(); ++f)
+    std::swap(grid.triangles[f], grid.triangles[(f * 7919) % grid.triangles.size()]);
+  grid.triangles.push_back(grid.triangles[3]);
+  meshes.push_back(grid);
+  return meshes;
+}
+
 inline void expect_valid_solid(const TriangleMesh& mesh) {
   const SolidReport r = check_solid(mesh);
   EXPECT_TRUE(r.closed()) << r.summary();

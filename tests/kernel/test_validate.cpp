@@ -67,17 +67,11 @@ TEST(SolidCheck, CountsEdgesOfADoubledFace) {
   EXPECT_EQ(r.border_edges, 0u);
 }
 
-// The solid check's table of corners answers every half-edge as MeshTopology::edge_uses does, on a
-// sphere with a hole, a turned face, a doubled face, a face over another and faces with a repeated
-// corner (left out by both).
+// The solid check's table of corners answers every half-edge as MeshTopology::edge_uses does, on
+// meshes with holes, turned, doubled and overlapping faces and faces with a repeated corner (left out
+// by both).
 TEST(SolidCheck, CornerTableUsesEdgesAsTheTopologyDoes) {
-  std::vector<TriangleMesh> meshes(5, make_icosphere(10.0, 3));
-  meshes[0].triangles.erase(meshes[0].triangles.begin() + 7);
-  std::swap(meshes[1].triangles[11][1], meshes[1].triangles[11][2]);
-  meshes[2].triangles.push_back(meshes[2].triangles[5]);
-  meshes[3].triangles.push_back({meshes[3].triangles[5][0], meshes[3].triangles[5][2], meshes[3].triangles[5][1]});
-  meshes[4].triangles.push_back({meshes[4].triangles[5][0], meshes[4].triangles[5][0], meshes[4].triangles[5][1]});
-  meshes[4].triangles[9][2] = meshes[4].triangles[9][1];
+  const std::vector<TriangleMesh> meshes = test::awkward_meshes();
   for (const TriangleMesh& mesh : meshes) {
     const auto repeats = [&](Index f) {
       const Triangle& t = mesh.triangles[f];

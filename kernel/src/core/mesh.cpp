@@ -13,18 +13,6 @@ BoundingBox bounding_box(const TriangleMesh& mesh) {
   return box;
 }
 
-BoundingBox triangle_box(const TriangleMesh& mesh, Index f) {
-  BoundingBox box;
-  for (Index v : mesh.triangles[f]) box.extend(mesh.positions[v]);
-  return box;
-}
-
-Vec3 triangle_normal(const TriangleMesh& mesh, Index f) {
-  const Triangle& t = mesh.triangles[f];
-  const Vec3& a = mesh.positions[t[0]];
-  return (mesh.positions[t[1]] - a).cross(mesh.positions[t[2]] - a);
-}
-
 double surface_area(const TriangleMesh& mesh) {
   double area = 0.0;
   for (Index f = 0; f < mesh.face_count(); ++f) area += triangle_normal(mesh, f).norm();

@@ -58,16 +58,56 @@ MeshTopology::EdgeUses CornerTable::edge_uses(Index h) const {
   return uses;
 }
 
-Index MeshTopology::opposite(Index h) const {
+MeshTopology::MeshTopology(const TriangleMesh& mesh, KeepOpposites) : MeshTopology(mesh) {
+  opposites_ = all_opposites();
+}
+
+Index MeshTopology::find_opposite(Index h) const {
   const EdgeUses uses = edge_uses(h, [](Index) { return false; });
   return (uses.reverse == 1 && uses.same == 0) ? uses.opposite : kInvalidIndex;
 }
 
 std::vector<Index> MeshTopology::all_opposites() const {
-  std::vector<Index> opp(static_cast<std::size_t>(mesh_.face_count()) * 3);
-  // Each entry on its own: on all threads.
-  detail::parallel_for(opp.size(), 16384, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t h = begin; h < end; ++h) opp[h] = opposite(static_cast<Index>(h));
+  if (!opposites_.empty()) return opposites_;
+  std::vector<Index> opp(static_cast<std::size_t>(mesh_.face_count()) * 3, kInvalidIndex);
+  // Per vertex b: its faces read once (the half-edge out of b in each and the corners after and
+  // before b there, b's first place in a face taken as edge_uses takes it), then every half-edge
+  // a -> b into it answered from them by edge_uses' rule. Each half-edge has one end: written once.
+  struct Corner {
+    Index out, next, prev;
+  };
+  detail::parallel_for(mesh_.vertex_count(), 4096, [&](std::size_t, std::size_t begin, std::size_t end) {
+    std::vector<Corner> fan;
+    for (auto b = static_cast<Index>(begin); b < end; ++b) {
+      fan.clear();
+      for (const Index g : faces_of(b)) {
+        const Triangle& t = mesh_.triangles[g];
+        const Index k = t[0] == b ? 0 : (t[1] == b ? 1 : 2);
+        fan.push_back({3 * g + k, t[(k + 1) % 3], t[(k + 2) % 3]});
+      }
+      Index last = kInvalidIndex;
+      for (const Index g : faces_of(b)) {
+        if (g == last) continue; // a face with b twice is listed twice, one after the other
+        last = g;
+        const Triangle& t = mesh_.triangles[g];
+        for (Index k = 0; k < 3; ++k) {
+          if (t[(k + 1) % 3] != b) continue;
+          const Index a = t[k];
+          int reverse = 0, same = 0;
+          Index opposite = kInvalidIndex;
+          for (const Corner& c : fan) {
+            if (c.out / 3 == g) continue;
+            if (c.next == a) {
+              ++reverse;
+              opposite = c.out;
+            } else if (c.prev == a) {
+              ++same;
+            }
+          }
+          opp[3 * g + k] = (reverse == 1 && same == 0) ? opposite : kInvalidIndex;
+        }
+      }
+    }
   });
   return opp;
 }

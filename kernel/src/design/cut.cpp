@@ -196,6 +196,7 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
   double area[2] = {0.0, 0.0};
   std::size_t border_edges[2] = {0, 0};
   Vec3 border_at[2] = {Vec3::Zero(), Vec3::Zero()};
+  bool weigh = true; // the sides' areas, for taking turns
   auto q = [](signed char s) { return s == kLeft ? 0 : 1; };
   auto reach = [&](Index h, signed char s) {
     const Index o = topology.opposite(h);
@@ -228,7 +229,7 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
     const Index f = queue[qi].front();
     queue[qi].pop_front();
     flooded[qi].push_back(f);
-    area[qi] += 0.5 * triangle_normal(mesh, f).norm();
+    if (weigh) area[qi] += 0.5 * triangle_normal(mesh, f).norm();
     for (Index v : mesh.triangles[f]) {
       if (side[v] == -s)
         throw GeometryError("the boundary curve does not separate the surface: both sides meet at " +
@@ -300,6 +301,7 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
   }
   int closed = -1;
   if (walked != 0) {
+    weigh = false;
     while (!queue[q(walked)].empty()) pop(q(walked));
     closed = q(walked);
   }

@@ -132,7 +132,7 @@ ShellBuild build_shell(const CutResult& inner, const TemplateOptions& options, b
   // 4. Outer surface: the offset cut along those points, keeping the side above the inner surface.
   //    Where the border turns tightly, projected samples can zig-zag and the loop cross itself (the
   //    paper's reason for a sampling step); with an automatic step, a coarser one is tried then.
-  const MeshTopology offset_topology(offset.surface);
+  const MeshTopology offset_topology(offset.surface, MeshTopology::KeepOpposites{});
   CurveOptions outer_curve_options;
   outer_curve_options.name = "outer cut";
   CutOptions outer_cut_options;

@@ -58,10 +58,18 @@ struct BoundingBox {
 BoundingBox bounding_box(const TriangleMesh& mesh);
 
 /// Bounding box of the three corners of triangle `f`.
-BoundingBox triangle_box(const TriangleMesh& mesh, Index f);
+inline BoundingBox triangle_box(const TriangleMesh& mesh, Index f) {
+  BoundingBox box;
+  for (Index v : mesh.triangles[f]) box.extend(mesh.positions[v]);
+  return box;
+}
 
 /// Unnormalised normal (twice the area times the unit normal) of triangle `f`.
-Vec3 triangle_normal(const TriangleMesh& mesh, Index f);
+inline Vec3 triangle_normal(const TriangleMesh& mesh, Index f) {
+  const Triangle& t = mesh.triangles[f];
+  const Vec3& a = mesh.positions[t[0]];
+  return (mesh.positions[t[1]] - a).cross(mesh.positions[t[2]] - a);
+}
 
 /// Sum of triangle areas, mm^2.
 double surface_area(const TriangleMesh& mesh);

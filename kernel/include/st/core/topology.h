@@ -26,8 +26,13 @@ class MeshTopology {
 public:
   /// Precondition: every index of `mesh` is < vertex_count (see check_mesh). Keeps a reference.
   explicit MeshTopology(const TriangleMesh& mesh);
+  /// The same, with every half-edge's opposite found at once (all_opposites) and kept: for a mesh most
+  /// of whose edges an algorithm walks (a cut keeping most of it).
+  struct KeepOpposites {};
+  MeshTopology(const TriangleMesh& mesh, KeepOpposites);
   /// Topology of a temporary mesh would outlive it.
   MeshTopology(TriangleMesh&&) = delete;
+  MeshTopology(TriangleMesh&&, KeepOpposites) = delete;
 
   [[nodiscard]] const TriangleMesh& mesh() const { return mesh_; }
   [[nodiscard]] Index from_vertex(Index h) const { return mesh_.triangles[h / 3][h % 3]; }
@@ -67,9 +72,10 @@ public:
     return uses;
   }
   /// The opposite half-edge, or kInvalidIndex when the edge is not manifold (see above).
-  [[nodiscard]] Index opposite(Index h) const;
+  [[nodiscard]] Index opposite(Index h) const { return opposites_.empty() ? find_opposite(h) : opposites_[h]; }
 
-  /// Opposite of every half-edge (#F*3 entries), for small meshes that are walked a lot.
+  /// Opposite of every half-edge (#F*3 entries), for meshes that are walked a lot: each vertex's
+  /// faces read once for all the half-edges into it, on all threads.
   [[nodiscard]] std::vector<Index> all_opposites() const;
 
   /// The unit normal vertex_normals() gives vertex v, bit for bit (the same sum over the faces around
@@ -78,9 +84,11 @@ public:
 
 private:
   friend class CornerTable;
+  [[nodiscard]] Index find_opposite(Index h) const;
   const TriangleMesh& mesh_;
   std::vector<Index> offsets_;
   std::vector<Index> face_list_;
+  std::vector<Index> opposites_; // kept by the KeepOpposites constructor, else empty
 };
 
 /// MeshTopology::edge_uses(h, skip) for meshes whose every edge is asked about (a solid check): per
