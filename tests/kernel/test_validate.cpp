@@ -371,3 +371,51 @@ TEST(SolidCheck, PassesOverOnlyPatchesThatCannotCrossThemselves) {
 
 } // namespace
 } // namespace st
+
+namespace st {
+
+// Distances to a closed polyline read near each point only are those over all its segments: points
+// on its vertices, along its segments, near it and far from it (beyond the rings read), a polyline
+// with repeated points and one of a single point.
+TEST(DistancesToPolyline, AreTheNearestOfAllSegments) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (const int size : {1, 2, 7, 200, 1500}) {
+    std::vector<Vec3> poly;
+    for (int i = 0; i < size; ++i) {
+      const double a = 2.0 * std::numbers::pi * i / size;
+      poly.emplace_back(20.0 * std::cos(a), 14.0 * std::sin(a), 3.0 * std::sin(5.0 * a) + 0.2 * unit(rng));
+    }
+    if (size > 7) poly[5] = poly[4];
+    std::vector<Vec3> points;
+    for (int i = 0; i < 400; ++i) {
+      const Vec3& a = poly[i % size];
+      const Vec3& b = poly[(i + 1) % size];
+      const double t = 0.5 + 0.5 * unit(rng);
+      const double off = i % 4 == 0 ? 0.0 : i % 4 == 1 ? 1e-3 : i % 4 == 2 ? 0.5 : 40.0;
+      points.push_back(i % 9 == 0 ? a : Vec3(a + t * (b - a) + off * Vec3(unit(rng), unit(rng), unit(rng))));
+    }
+    const DistanceStats s = distances_to_polyline(points, poly);
+    double min = std::numeric_limits<double>::infinity(), max = 0.0, sum = 0.0;
+    for (const Vec3& p : points) {
+      double best = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < size; ++k) {
+        const Vec3 &a = poly[k], &b = poly[(k + 1) % size], ab = b - a;
+        const double len2 = ab.squaredNorm();
+        const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+        best = std::min(best, (p - (a + t * ab)).norm());
+      }
+      min = std::min(min, best);
+      max = std::max(max, best);
+      sum += best;
+    }
+    EXPECT_EQ(s.count, points.size());
+    EXPECT_EQ(s.min, min) << size;
+    EXPECT_EQ(s.max, max) << size;
+    EXPECT_EQ(s.mean, sum / static_cast<double>(points.size())) << size;
+  }
+  EXPECT_EQ(distances_to_polyline({}, {Vec3::Zero()}).count, 0u);
+  EXPECT_TRUE(std::isinf(distances_to_polyline({Vec3::Zero()}, {}).min));
+}
+
+} // namespace st

@@ -178,13 +178,6 @@ double contact_area(const TriangleMesh& inner, const std::vector<std::uint8_t>& 
   return area;
 }
 
-double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (p - (a + t * ab)).norm();
-}
-
 // The analyses of a candidate guide that do not change it: the fit (the inner surface to the bone
 // region it was cut from, the outer surface to the inner, the rim to the curve drawn on the bone), the
 // stability, and how it comes off the bone along the insertion direction with its contact area. The
@@ -238,23 +231,10 @@ TemplateFit measure_fit(const AnalysisInputs& in, const AabbTree* inner_tree) {
   for (Index v = 0; v < std::min(in.inner.vertex_count(), in.bone_region.vertex_count()); ++v) source[v] = v;
   fit.inner_to_bone = distances_to_surface(in.inner.positions, in.bone_region, source);
   fit.outer_to_inner = distances_to_surface(in.outer, in.inner, {}, inner_tree);
-  DistanceStats rim;
-  rim.min = std::numeric_limits<double>::infinity();
-  double sum = 0.0;
-  const std::vector<Vec3>& poly = in.curve;
-  for (const Index v : in.rim) {
-    const Vec3& p = in.inner.positions[v]; // the inner region, moved there
-    // The curve lies on the bone, so the expected distance is the clearance.
-    double best = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < poly.size(); ++i)
-      best = std::min(best, point_segment_distance(p, poly[i], poly[(i + 1) % poly.size()]));
-    rim.min = std::min(rim.min, best);
-    rim.max = std::max(rim.max, best);
-    sum += best;
-  }
-  rim.count = in.rim.size();
-  rim.mean = rim.count ? sum / static_cast<double>(rim.count) : 0.0;
-  fit.rim_to_curve = rim;
+  // The curve lies on the bone, so the expected distance is the clearance.
+  std::vector<Vec3> rim_points;
+  for (const Index v : in.rim) rim_points.push_back(in.inner.positions[v]); // the inner region, moved there
+  fit.rim_to_curve = distances_to_polyline(rim_points, in.curve);
   return fit;
 }
 

@@ -358,4 +358,80 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
   return s;
 }
 
+namespace {
+
+double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * ab)).norm();
+}
+
+} // namespace
+
+DistanceStats distances_to_polyline(const std::vector<Vec3>& points, const std::vector<Vec3>& poly) {
+  const std::size_t n = poly.size();
+  std::vector<double> distance(points.size(), std::numeric_limits<double>::infinity());
+  auto segment = [&](std::size_t s, const Vec3& p) { return point_segment_distance(p, poly[s], poly[(s + 1) % n]); };
+  if (n > 0) {
+    BoundingBox box;
+    double cell = 0.0;
+    for (std::size_t s = 0; s < n; ++s) {
+      box.extend(poly[s]);
+      cell = std::max(cell, (poly[(s + 1) % n] - poly[s]).norm());
+    }
+    cell = std::max(cell, 1e-9 * (1.0 + box.size().maxCoeff()));
+    auto index = [&](double x, int axis) {
+      return static_cast<std::int64_t>(std::floor(std::clamp((x - box.min[axis]) / cell, -1e9, 1e9)));
+    };
+    auto key = [](std::int64_t i, std::int64_t j, std::int64_t k) {
+      return static_cast<std::uint64_t>(i & 0x1fffff) << 42 | static_cast<std::uint64_t>(j & 0x1fffff) << 21 |
+             static_cast<std::uint64_t>(k & 0x1fffff);
+    };
+    std::vector<std::pair<std::uint64_t, std::size_t>> cells; // (cell, segment) for the cells its box meets
+    for (std::size_t s = 0; s < n; ++s) {
+      const Vec3 lo = poly[s].cwiseMin(poly[(s + 1) % n]), hi = poly[s].cwiseMax(poly[(s + 1) % n]);
+      for (std::int64_t i = index(lo.x(), 0); i <= index(hi.x(), 0); ++i)
+        for (std::int64_t j = index(lo.y(), 1); j <= index(hi.y(), 1); ++j)
+          for (std::int64_t k = index(lo.z(), 2); k <= index(hi.z(), 2); ++k) cells.emplace_back(key(i, j, k), s);
+    }
+    std::sort(cells.begin(), cells.end());
+    detail::parallel_for(points.size(), 256, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t q = begin; q < end; ++q) {
+        const Vec3& p = points[q];
+        const std::int64_t ci = index(p.x(), 0), cj = index(p.y(), 1), ck = index(p.z(), 2);
+        double best = std::numeric_limits<double>::infinity();
+        // Rings 0 to r - 1 read: a segment in none of their cells lies more than r - 1 cells from p.
+        for (std::int64_t r = 0; r == 0 || !(best <= static_cast<double>(r - 1) * cell); ++r) {
+          if (r > 4) { // far from the polyline: all of it
+            for (std::size_t s = 0; s < n; ++s) best = std::min(best, segment(s, p));
+            break;
+          }
+          for (std::int64_t i = ci - r; i <= ci + r; ++i)
+            for (std::int64_t j = cj - r; j <= cj + r; ++j)
+              for (std::int64_t k = ck - r; k <= ck + r; ++k) {
+                if (std::max({std::abs(i - ci), std::abs(j - cj), std::abs(k - ck)}) != r) continue; // the ring
+                const std::uint64_t c = key(i, j, k);
+                for (auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(c, std::size_t{0}));
+                     it != cells.end() && it->first == c; ++it)
+                  best = std::min(best, segment(it->second, p));
+              }
+        }
+        distance[q] = best;
+      }
+    });
+  }
+  DistanceStats s;
+  s.min = std::numeric_limits<double>::infinity();
+  double sum = 0.0;
+  for (const double d : distance) {
+    s.min = std::min(s.min, d);
+    s.max = std::max(s.max, d);
+    sum += d;
+  }
+  s.count = points.size();
+  s.mean = s.count ? sum / static_cast<double>(s.count) : 0.0;
+  return s;
+}
+
 } // namespace st

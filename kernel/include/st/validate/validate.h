@@ -63,4 +63,12 @@ struct DistanceStats {
 DistanceStats distances_to_surface(const std::vector<Vec3>& points, const TriangleMesh& surface,
                                    const std::vector<Index>& near_vertex = {}, const AabbTree* tree = nullptr);
 
+/// Distance statistics of points to the closed polyline `poly` (segments from each of its points to
+/// the next, the last to the first): each point's distance to its nearest segment, summed in the
+/// points' order. The segments are read near each point only (a grid of cells as long as the longest
+/// segment, ring by ring until the next ring lies farther than the nearest found; all of them for a
+/// point farther than four rings): the same result as over all segments. Empty `poly`: every
+/// distance infinite.
+DistanceStats distances_to_polyline(const std::vector<Vec3>& points, const std::vector<Vec3>& poly);
+
 } // namespace st
