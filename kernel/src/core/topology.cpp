@@ -72,9 +72,11 @@ std::vector<Index> MeshTopology::all_opposites() const {
   std::vector<Index> opp(static_cast<std::size_t>(mesh_.face_count()) * 3, kInvalidIndex);
   // Per vertex b: its faces read once (the half-edge out of b in each and the corners after and
   // before b there, b's first place in a face taken as edge_uses takes it), then every half-edge
-  // a -> b into it answered from them by edge_uses' rule. Each half-edge has one end: written once.
+  // a -> b into it answered from them by edge_uses' rule: in a face with b once, the half-edge from
+  // the corner before b. Each half-edge has one end: written once.
   struct Corner {
     Index out, next, prev;
+    bool repeated; // b twice in the face
   };
   detail::parallel_for(mesh_.vertex_count(), 4096, [&](std::size_t, std::size_t begin, std::size_t end) {
     std::vector<Corner> fan;
@@ -83,29 +85,35 @@ std::vector<Index> MeshTopology::all_opposites() const {
       for (const Index g : faces_of(b)) {
         const Triangle& t = mesh_.triangles[g];
         const Index k = t[0] == b ? 0 : (t[1] == b ? 1 : 2);
-        fan.push_back({3 * g + k, t[(k + 1) % 3], t[(k + 2) % 3]});
+        const bool repeated = (t[0] == b) + (t[1] == b) + (t[2] == b) > 1;
+        fan.push_back({3 * g + k, t[(k + 1) % 3], t[(k + 2) % 3], repeated});
       }
+      auto answer = [&](Index h, Index a) {
+        int reverse = 0, same = 0;
+        Index opposite = kInvalidIndex;
+        for (const Corner& c : fan) {
+          if (c.out / 3 == h / 3) continue;
+          if (c.next == a) {
+            ++reverse;
+            opposite = c.out;
+          } else if (c.prev == a) {
+            ++same;
+          }
+        }
+        opp[h] = (reverse == 1 && same == 0) ? opposite : kInvalidIndex;
+      };
       Index last = kInvalidIndex;
-      for (const Index g : faces_of(b)) {
+      for (const Corner& c : fan) {
+        const Index g = c.out / 3;
         if (g == last) continue; // a face with b twice is listed twice, one after the other
         last = g;
-        const Triangle& t = mesh_.triangles[g];
-        for (Index k = 0; k < 3; ++k) {
-          if (t[(k + 1) % 3] != b) continue;
-          const Index a = t[k];
-          int reverse = 0, same = 0;
-          Index opposite = kInvalidIndex;
-          for (const Corner& c : fan) {
-            if (c.out / 3 == g) continue;
-            if (c.next == a) {
-              ++reverse;
-              opposite = c.out;
-            } else if (c.prev == a) {
-              ++same;
-            }
-          }
-          opp[3 * g + k] = (reverse == 1 && same == 0) ? opposite : kInvalidIndex;
+        if (!c.repeated) {
+          answer(prev_halfedge(c.out), c.prev);
+          continue;
         }
+        const Triangle& t = mesh_.triangles[g];
+        for (Index k = 0; k < 3; ++k)
+          if (t[(k + 1) % 3] == b) answer(3 * g + k, t[k]);
       }
     }
   });
