@@ -21,29 +21,22 @@ MeshTopology::MeshTopology(const TriangleMesh& mesh) : mesh_(mesh) {
     for (Index v : mesh.triangles[f]) face_list_[fill[v]++] = f;
 }
 
-CornerTable::CornerTable(const MeshTopology& topology, const std::function<bool(Index)>& skip)
-    : topology_(topology), corners_(topology.face_list_.size()) {
-  const TriangleMesh& mesh = topology.mesh_;
-  detail::parallel_for(mesh.vertex_count(), 4096, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (Index v = static_cast<Index>(begin); v < end; ++v) {
-      Corner* row = corners_.data() + topology.offsets_[v];
-      for (const Index g : topology.faces_of(v)) {
-        const Triangle& t = mesh.triangles[g];
-        const Index k = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
-        *row++ = skip(g) ? Corner{3 * g + k, kInvalidIndex, kInvalidIndex}
-                         : Corner{3 * g + k, t[(k + 1) % 3], t[(k + 2) % 3]};
-      }
-    }
-  });
+namespace {
+
+/// v's corner in face g: v's half-edge out of g and the corners after and before it there (v's first
+/// place in g, as MeshTopology::edge_uses takes it).
+template <class Corner> Corner corner_at(const TriangleMesh& mesh, Index g, Index v) {
+  const Triangle& t = mesh.triangles[g];
+  const Index k = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+  return {3 * g + k, t[(k + 1) % 3], t[(k + 2) % 3]};
 }
 
-MeshTopology::EdgeUses CornerTable::edge_uses(Index h) const {
-  // As MeshTopology::edge_uses: the faces other than h's around b that run the edge b -> a (its
-  // half-edge b's out) or a -> b (its half-edge the one into b).
-  const Index f = h / 3, a = topology_.from_vertex(h), b = topology_.to_vertex(h);
+/// MeshTopology::edge_uses' rule over the corners of b's faces [row, end), for the half-edge a -> b
+/// of face f: the faces other than f that run the edge b -> a (b's half-edge out) or a -> b (the one
+/// into b).
+template <class Corner> MeshTopology::EdgeUses uses_among(const Corner* row, const Corner* end, Index f, Index a) {
   MeshTopology::EdgeUses uses;
-  const Corner* const row_end = corners_.data() + topology_.offsets_[b + 1];
-  for (const Corner* row = corners_.data() + topology_.offsets_[b]; row != row_end; ++row) {
+  for (; row != end; ++row) {
     if (row->out / 3 == f) continue;
     Index on_edge = kInvalidIndex;
     if (row->next == a) {
@@ -58,56 +51,66 @@ MeshTopology::EdgeUses CornerTable::edge_uses(Index h) const {
   return uses;
 }
 
+/// The opposite an edge's uses give a half-edge: the one other face that runs it the other way.
+Index opposite_of(const MeshTopology::EdgeUses& uses) {
+  return (uses.reverse == 1 && uses.same == 0) ? uses.opposite : kInvalidIndex;
+}
+
+} // namespace
+
+CornerTable::CornerTable(const MeshTopology& topology, const std::function<bool(Index)>& skip)
+    : topology_(topology), corners_(topology.face_list_.size()) {
+  const TriangleMesh& mesh = topology.mesh_;
+  detail::parallel_for(mesh.vertex_count(), 4096, [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (Index v = static_cast<Index>(begin); v < end; ++v) {
+      Corner* row = corners_.data() + topology.offsets_[v];
+      for (const Index g : topology.faces_of(v)) {
+        *row = corner_at<Corner>(mesh, g, v);
+        if (skip(g)) row->next = row->prev = kInvalidIndex;
+        ++row;
+      }
+    }
+  });
+}
+
+MeshTopology::EdgeUses CornerTable::edge_uses(Index h) const {
+  const Index b = topology_.to_vertex(h);
+  return uses_among(corners_.data() + topology_.offsets_[b], corners_.data() + topology_.offsets_[b + 1], h / 3,
+                    topology_.from_vertex(h));
+}
+
 MeshTopology::MeshTopology(const TriangleMesh& mesh, KeepOpposites) : MeshTopology(mesh) {
   opposites_ = all_opposites();
 }
 
 Index MeshTopology::find_opposite(Index h) const {
-  const EdgeUses uses = edge_uses(h, [](Index) { return false; });
-  return (uses.reverse == 1 && uses.same == 0) ? uses.opposite : kInvalidIndex;
+  return opposite_of(edge_uses(h, [](Index) { return false; }));
 }
 
 std::vector<Index> MeshTopology::all_opposites() const {
   if (!opposites_.empty()) return opposites_;
   std::vector<Index> opp(static_cast<std::size_t>(mesh_.face_count()) * 3, kInvalidIndex);
-  // Per vertex b: its faces read once (the half-edge out of b in each and the corners after and
-  // before b there, b's first place in a face taken as edge_uses takes it), then every half-edge
-  // a -> b into it answered from them by edge_uses' rule: in a face with b once, the half-edge from
-  // the corner before b. Each half-edge has one end: written once.
+  // Per vertex b, its corners (as a CornerTable row, made here and kept only while b is answered), then
+  // every half-edge a -> b into it by edge_uses' rule: in a face with b once, the half-edge from the
+  // corner before b; a face with b twice (b is then its corner after or before b) is read again. Each
+  // half-edge has one end: written once.
   struct Corner {
     Index out, next, prev;
-    bool repeated; // b twice in the face
   };
   detail::parallel_for(mesh_.vertex_count(), 4096, [&](std::size_t, std::size_t begin, std::size_t end) {
     std::vector<Corner> fan;
     for (auto b = static_cast<Index>(begin); b < end; ++b) {
       fan.clear();
-      for (const Index g : faces_of(b)) {
-        const Triangle& t = mesh_.triangles[g];
-        const Index k = t[0] == b ? 0 : (t[1] == b ? 1 : 2);
-        const bool repeated = (t[0] == b) + (t[1] == b) + (t[2] == b) > 1;
-        fan.push_back({3 * g + k, t[(k + 1) % 3], t[(k + 2) % 3], repeated});
-      }
+      for (const Index g : faces_of(b)) fan.push_back(corner_at<Corner>(mesh_, g, b));
       auto answer = [&](Index h, Index a) {
-        int reverse = 0, same = 0;
-        Index opposite = kInvalidIndex;
-        for (const Corner& c : fan) {
-          if (c.out / 3 == h / 3) continue;
-          if (c.next == a) {
-            ++reverse;
-            opposite = c.out;
-          } else if (c.prev == a) {
-            ++same;
-          }
-        }
-        opp[h] = (reverse == 1 && same == 0) ? opposite : kInvalidIndex;
+        opp[h] = opposite_of(uses_among(fan.data(), fan.data() + fan.size(), h / 3, a));
       };
       Index last = kInvalidIndex;
       for (const Corner& c : fan) {
         const Index g = c.out / 3;
         if (g == last) continue; // a face with b twice is listed twice, one after the other
         last = g;
-        if (!c.repeated) {
+        if (c.next != b && c.prev != b) {
           answer(prev_halfedge(c.out), c.prev);
           continue;
         }

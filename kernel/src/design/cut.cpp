@@ -196,7 +196,7 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
   double area[2] = {0.0, 0.0};
   std::size_t border_edges[2] = {0, 0};
   Vec3 border_at[2] = {Vec3::Zero(), Vec3::Zero()};
-  bool weigh = true; // the sides' areas, for taking turns
+  signed char walked = 0; // the side a walk from the inside point reached: flooded alone, unweighed
   auto q = [](signed char s) { return s == kLeft ? 0 : 1; };
   auto reach = [&](Index h, signed char s) {
     const Index o = topology.opposite(h);
@@ -229,7 +229,7 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
     const Index f = queue[qi].front();
     queue[qi].pop_front();
     flooded[qi].push_back(f);
-    if (weigh) area[qi] += 0.5 * triangle_normal(mesh, f).norm();
+    if (walked == 0) area[qi] += 0.5 * triangle_normal(mesh, f).norm(); // for taking turns
     for (Index v : mesh.triangles[f]) {
       if (side[v] == -s)
         throw GeometryError("the boundary curve does not separate the surface: both sides meet at " +
@@ -272,7 +272,6 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
   // in the same order as when both sides take turns (each side's queue grows from its own faces
   // alone): the same region, without flooding the other side as far. Where the walk stalls (a fold
   // of the surface), the sides take turns.
-  signed char walked = 0;
   if (options.inside && inside_face != kInvalidIndex && face_state[inside_face] != kCutFace) {
     auto centroid = [&](Index f) {
       const Triangle& t = mesh.triangles[f];
@@ -301,7 +300,6 @@ CutResult cut_region(const MeshTopology& topology, const SurfaceCurve& curve, co
   }
   int closed = -1;
   if (walked != 0) {
-    weigh = false;
     while (!queue[q(walked)].empty()) pop(q(walked));
     closed = q(walked);
   }
