@@ -374,6 +374,70 @@ TEST(SolidCheck, PassesOverOnlyPatchesThatCannotCrossThemselves) {
 
 namespace st {
 
+// A long sliver (a side of a prism, one face from end to end, tilted) has a box that spans hundreds of
+// small faces': the check pairs it only with the faces its plane can meet (AabbTree::overlapping_pairs'
+// slabs). The count is that of testing every pair: the prism through a fine plate (crossings), and per
+// side small faces at exact places, every coordinate a dyadic fraction: one lying in the side's plane
+// over it, one with a corner on it and the others off it, ones parallel to it a 2^-40 and a 2^-10 of
+// its normal off it; then all of it moved at random.
+TEST(SolidCheck, PairsLongSliversAsTestingEveryPairDoes) {
+  SolidOptions all;
+  all.max_reported = std::numeric_limits<std::size_t>::max();
+  for (const bool jitter : {false, true}) {
+    TriangleMesh mesh =
+        test::make_grid_patch(24, -3.0, 3.0, -3.0, 3.0, [](double u, double v) { return Vec3(u, v, 0.0); });
+    const auto add = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
+      const Index first = mesh.vertex_count();
+      mesh.positions.insert(mesh.positions.end(), {a, b, c});
+      mesh.triangles.push_back({first, first + 1, first + 2});
+    };
+    const int ring[8][2] = {{2, 1}, {1, 2}, {-1, 2}, {-2, 1}, {-2, -1}, {-1, -2}, {1, -2}, {2, -1}};
+    const auto corner = [&](int i, double z) { return Vec3(ring[i % 8][0] + 0.5 * z, ring[i % 8][1], z); };
+    for (int i = 0; i < 8; ++i) {
+      const Vec3 a = corner(i, -4.0), b = corner(i + 1, -4.0), c = corner(i + 1, 4.0), d = corner(i, 4.0);
+      add(a, b, c);
+      add(a, c, d);
+      const Vec3 u = (b - a) / 4.0, v = (c - a) / 8.0, n = u.cross(v); // exact
+      const Vec3 at = a + 2.0 * u + 3.0 * v;                           // inside face (a, b, c)
+      add(at, at + u, at + v);
+      add(at + n, at + n + u, at);
+      for (const int power : {-40, -10}) {
+        const Vec3 off = at + std::ldexp(1.0, power) * n;
+        add(off, off + u, off + v);
+      }
+    }
+    if (jitter) {
+      std::mt19937 rng(5);
+      std::normal_distribution<double> noise(0.0, 1e-3);
+      for (Vec3& p : mesh.positions) p += Vec3(noise(rng), noise(rng), noise(rng));
+    }
+    const std::size_t expected = crossing_pairs(mesh);
+    EXPECT_GE(expected, 16u) << "jitter " << jitter;
+    EXPECT_EQ(check_solid(mesh, all).self_intersections, expected) << "jitter " << jitter;
+  }
+}
+
+// A caller building the tree beside the check hands it over when asked: the same report as with the
+// tree given or built by the check, asked for once, after the topology (not at all for a mesh whose
+// faces are degenerate: the check stops before the pairs).
+TEST(SolidCheck, AsksForTheTreeOnceWhenItComesFromBeside) {
+  for (const TriangleMesh& mesh : {make_icosphere(10.0, 3), subdivided_cube(6)}) {
+    const AabbTree tree(mesh);
+    int asked = 0;
+    SolidOptions beside;
+    beside.tree_source = [&]() -> const AabbTree& {
+      ++asked;
+      return tree;
+    };
+    const SolidReport from_beside = check_solid(mesh, beside);
+    EXPECT_EQ(asked, 1);
+    EXPECT_EQ(from_beside.summary(), check_solid(mesh).summary());
+    SolidOptions given;
+    given.tree = &tree;
+    EXPECT_EQ(from_beside.summary(), check_solid(mesh, given).summary());
+  }
+}
+
 // Distances to a closed polyline read near each point only are those over all its segments: points
 // on its vertices, along its segments, near it and far from it (beyond the rings read), a polyline
 // with repeated points and one of a single point.

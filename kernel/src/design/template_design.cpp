@@ -23,6 +23,7 @@
 #include <cmath>
 #include <numeric>
 #include <future>
+#include <memory>
 #include <unordered_map>
 
 namespace st {
@@ -422,7 +423,10 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   // The analyses of the candidate shell, from when it is built, and of the candidate guide (or shell),
   // beside its check (declared after what they read, so that they are joined before it goes).
   Analyses analyses;
-  std::optional<AabbTree> candidate_tree; // read by the removal check and the guide's check
+  // The candidate's tree, read by the removal check and the guide's check: built first thing on the
+  // removal check's thread, while the check goes through the guide's topology on the caller's.
+  std::optional<AabbTree> candidate_tree;
+  std::shared_future<void> candidate_tree_built;
   std::optional<detail::Background> analysing_shell, analysing_guide;
   auto stop_analyses = [&] {
     analysing_guide.reset();
@@ -448,15 +452,31 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
   };
   auto analyse_guide_beside = [&](const TriangleMesh& candidate) {
     analysing_guide.reset();
-    if (!options.check) return;
-    candidate_tree.emplace(candidate);
-    if (!options.analyse_insertion) return;
-    analysing_guide.emplace([&, in = inputs()] { analyse_removal(in, candidate, *candidate_tree, options, analyses); });
+    candidate_tree.reset();
+    candidate_tree_built = {};
+    if (!options.check || !options.analyse_insertion) return; // the check builds the tree it needs
+    auto tree_built = std::make_shared<std::promise<void>>();
+    candidate_tree_built = tree_built->get_future().share();
+    analysing_guide.emplace([&, tree_built, in = inputs()] {
+      try {
+        candidate_tree.emplace(candidate);
+      } catch (...) {
+        tree_built->set_exception(std::current_exception());
+        throw;
+      }
+      tree_built->set_value();
+      analyse_removal(in, candidate, *candidate_tree, options, analyses);
+    });
   };
-  auto check = [&](const TriangleMesh& mesh, const AabbTree* tree = nullptr) {
+  // The solid check of the shell or guide; of the candidate, with its tree from beside.
+  auto check = [&](const TriangleMesh& mesh, bool candidate = false) {
     const auto t_check = Clock::now();
     SolidOptions solid_options;
-    solid_options.tree = tree;
+    if (candidate && candidate_tree_built.valid())
+      solid_options.tree_source = [&]() -> const AabbTree& {
+        candidate_tree_built.get(); // rethrows what building it threw
+        return *candidate_tree;
+      };
     result.solid = check_solid(mesh, solid_options);
     result.times.validation += seconds_since(t_check);
     return result.solid.valid();
@@ -482,7 +502,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
       analyse_shell_beside();
       if (!parts) {
         analyse_guide_beside(shell);
-        if (!options.check || check(shell, &*candidate_tree)) return true;
+        if (!options.check || check(shell, true)) return true;
         continue;
       }
       std::optional<GeometryError> failure;
@@ -492,7 +512,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
         result.times.boolean += guide->seconds;
         result.times.validation += guide->blade_path_seconds;
         analyse_guide_beside(guide->mesh);
-        if (!options.check || check(guide->mesh, &*candidate_tree)) return true;
+        if (!options.check || check(guide->mesh, true)) return true;
         failure.emplace("the guide with its tubes failed its check: " + result.solid.summary());
       } catch (const GeometryError& e) {
         failure = e;

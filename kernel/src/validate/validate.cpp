@@ -120,10 +120,17 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
   };
 
   // Edges, from the faces around their ends: each edge is counted once, at the first of its half-edges
-  // (faces with a repeated corner left out); the opposite of every half-edge comes with it.
+  // (faces with a repeated corner left out); the opposite of every half-edge comes with it. Where no
+  // face repeats a corner, the opposites come first (MeshTopology::all_opposites, by the same rule):
+  // a half-edge with an opposite is on a proper edge, which counts nothing, so the uses of the edges
+  // (a CornerTable) are read only when some half-edge has none.
   const MeshTopology topology(mesh);
-  const CornerTable corners(topology, repeats);
-  std::vector<Index> opp(3 * faces, kInvalidIndex);
+  bool repeating = false;
+  for (Index f = 0; f < faces && !repeating; ++f) repeating = repeats(f);
+  std::vector<Index> opp = repeating ? std::vector<Index>(3 * faces, kInvalidIndex) : topology.all_opposites();
+  const bool proper = !repeating && std::find(opp.begin(), opp.end(), kInvalidIndex) == opp.end();
+  std::optional<CornerTable> corners;
+  if (!proper) corners.emplace(topology, repeats);
   {
     std::vector<Found> chunks((faces + kGrain - 1) / kGrain);
     detail::parallel_for(faces, kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
@@ -134,10 +141,10 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
           ++c.degenerate;
           c.note(mesh.positions[t[0]]);
         }
-        if (repeats(f)) continue;
+        if (proper || repeats(f)) continue;
         for (Index k = 0; k < 3; ++k) {
           const Index h = 3 * f + k;
-          const MeshTopology::EdgeUses uses = corners.edge_uses(h);
+          const MeshTopology::EdgeUses uses = corners->edge_uses(h);
           if (uses.reverse == 1 && uses.same == 0) opp[h] = uses.opposite;
           if (uses.lowest < h) continue;
           const int total = 1 + uses.reverse + uses.same;
@@ -201,7 +208,9 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
   if (options.check_self_intersections && r.degenerate_triangles == 0) {
     // The exact tests run on the threads that find the pairs (overlapping boxes) in the tree.
     std::optional<AabbTree> own_tree;
-    const AabbTree& tree = options.tree ? *options.tree : own_tree.emplace(mesh);
+    const AabbTree& tree = options.tree          ? *options.tree
+                           : options.tree_source ? options.tree_source()
+                                                 : own_tree.emplace(mesh);
     // Nodes of the tree whose faces form a patch that projects one to one onto an axis plane are
     // passed over whole (embedded_patch.h): their faces meet only where they share corners or edges.
     const validate_detail::Patches patches(mesh, opp, turns, tree.ordered_faces());

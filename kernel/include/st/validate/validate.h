@@ -4,6 +4,7 @@
 
 #include "st/core/mesh.h"
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,6 +41,9 @@ struct SolidOptions {
   bool check_self_intersections = true;
   std::size_t max_reported = 100; ///< stop counting self-intersections here
   const AabbTree* tree = nullptr; ///< a tree over all of the mesh's faces when the caller has one
+  /// Or, when `tree` is null, where to get one: asked once the topology is checked, when the
+  /// self-intersection check starts (for a caller building the tree beside the check).
+  std::function<const AabbTree&()> tree_source;
 };
 
 /// Topology, orientation and self-intersection check of a triangle mesh as a solid. Self-intersections
