@@ -52,6 +52,14 @@ bool ray_hits_box(const Corner& min, const Corner& max, double pad, const Vec3& 
   return true;
 }
 
+// Whether faces a and b of `mesh` have a corner in common.
+bool share_corner(const TriangleMesh& mesh, Index a, Index b) {
+  const Triangle &ta = mesh.triangles[a], &tb = mesh.triangles[b];
+  for (const Index u : ta)
+    if (u == tb[0] || u == tb[1] || u == tb[2]) return true;
+  return false;
+}
+
 } // namespace
 
 AabbTree::AabbTree(const TriangleMesh& mesh, std::vector<Index> faces) : mesh_(mesh), faces_(std::move(faces)) {
@@ -343,54 +351,36 @@ int AabbTree::split_pair(Index a, Index b, std::array<std::pair<Index, Index>, 3
   return 2;
 }
 
-std::vector<AabbTree::PlaneSlab> AabbTree::plane_slabs() const {
-  const std::size_t n = faces_.size();
-  constexpr std::size_t kGrain = 8192;
-  std::vector<double> chunk_largest((n + kGrain - 1) / kGrain, 0.0);
-  detail::parallel_for(n, kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
-    double largest = 0.0;
-    for (std::size_t i = begin; i < end; ++i)
-      for (const Index v : mesh_.triangles[faces_[i]]) {
-        const Vec3& p = mesh_.positions[v];
-        largest = std::max({largest, std::abs(p.x()), std::abs(p.y()), std::abs(p.z())});
-        if (!p.allFinite()) largest = std::numeric_limits<double>::infinity();
-      }
-    chunk_largest[begin / kGrain] = largest;
-  });
-  const double largest = chunk_largest.empty() ? 0.0 : *std::max_element(chunk_largest.begin(), chunk_largest.end());
-  if (!(largest <= 1e60)) return {};
-  // A dot product of the normal with a vertex (here and in off_slab) rounds by less than 4e-16 of the
-  // largest coordinate times the normal's 1-norm (and 1e-300 where products underflow), the spread
-  // below by twice that: the margin adds 1e-12, over a thousand times the sum.
-  std::vector<PlaneSlab> slabs(n);
-  detail::parallel_for(n, kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      const Triangle& t = mesh_.triangles[faces_[i]];
-      const Vec3 &a = mesh_.positions[t[0]], &b = mesh_.positions[t[1]], &c = mesh_.positions[t[2]];
-      const Vec3 normal = (b - a).cross(c - a);
-      const double at = normal.dot(a);
-      const double spread = std::max(std::abs(normal.dot(b) - at), std::abs(normal.dot(c) - at));
-      const double margin = spread + 1e-12 * largest * normal.lpNorm<1>() + 1e-300;
-      slabs[i] = {normal, at - margin, at + margin};
-    }
-  });
-  return slabs;
+double AabbTree::plane_margin() const {
+  double largest = 0.0;
+  for (const Vec3& p : mesh_.positions) {
+    if (!p.allFinite()) return 0.0;
+    largest = std::max(largest, p.cwiseAbs().maxCoeff());
+  }
+  return largest <= 1e60 ? 1e-12 * largest + 1e-300 : 0.0;
 }
 
-bool AabbTree::off_slab(const PlaneSlab& slab, Index face) const {
-  const Triangle& t = mesh_.triangles[face];
-  double lowest = std::numeric_limits<double>::infinity(), highest = -lowest;
-  for (const Index v : t) {
-    const double h = slab.normal.dot(mesh_.positions[v]);
-    lowest = std::min(lowest, h);
-    highest = std::max(highest, h);
-  }
-  return lowest > slab.high || highest < slab.low; // (not a number: not off)
+bool AabbTree::apart_by_planes(Index a, Index b, double margin) const {
+  const Triangle &ta = mesh_.triangles[a], &tb = mesh_.triangles[b];
+  const std::array<const Vec3*, 3> pa{&mesh_.positions[ta[0]], &mesh_.positions[ta[1]], &mesh_.positions[ta[2]]};
+  const std::array<const Vec3*, 3> pb{&mesh_.positions[tb[0]], &mesh_.positions[tb[1]], &mesh_.positions[tb[2]]};
+  // The corners of `other` all off the plane of `own`, widened: a dot product rounds by less than
+  // 4e-16 of the largest coordinate times the normal's 1-norm, the spread by twice that; the margin
+  // is over a thousand times the sum.
+  auto off = [&](const std::array<const Vec3*, 3>& own, const std::array<const Vec3*, 3>& other) {
+    const Vec3 normal = (*own[1] - *own[0]).cross(*own[2] - *own[0]);
+    const double at = normal.dot(*own[0]);
+    const double widen =
+        std::max(std::abs(normal.dot(*own[1]) - at), std::abs(normal.dot(*own[2]) - at)) + margin * normal.lpNorm<1>();
+    const double h0 = normal.dot(*other[0]) - at, h1 = normal.dot(*other[1]) - at, h2 = normal.dot(*other[2]) - at;
+    return (h0 > widen && h1 > widen && h2 > widen) || (h0 < -widen && h1 < -widen && h2 < -widen); // NaN: not off
+  };
+  return off(pa, pb) || off(pb, pa);
 }
 
 template <class Visit> void AabbTree::self_pairs(Index a, Index b, Visit& visit,
                                                  const std::function<bool(Index, Index)>* apart,
-                                                 const std::vector<PlaneSlab>* slabs) const {
+                                                 double plane_margin) const {
   if (apart && a == b && nodes_[a].end - nodes_[a].begin <= kMaxApart && (*apart)(nodes_[a].begin, nodes_[a].end))
     return;
   std::array<std::pair<Index, Index>, 3> children;
@@ -402,10 +392,11 @@ template <class Visit> void AabbTree::self_pairs(Index a, Index b, Visit& visit,
     for (Index i = na.begin; i < na.end; ++i)
       for (Index j = (a == b ? i + 1 : nb.begin); j < nb.end; ++j)
         if (face_boxes_[i].overlaps(face_boxes_[j]) &&
-            !(slabs && (off_slab((*slabs)[i], faces_[j]) || off_slab((*slabs)[j], faces_[i]))))
+            !(plane_margin > 0.0 && !share_corner(mesh_, faces_[i], faces_[j]) &&
+              apart_by_planes(faces_[i], faces_[j], plane_margin)))
           visit(faces_[i], faces_[j]);
   }
-  for (int k = 0; k < count; ++k) self_pairs(children[k].first, children[k].second, visit, apart, slabs);
+  for (int k = 0; k < count; ++k) self_pairs(children[k].first, children[k].second, visit, apart, plane_margin);
 }
 
 void AabbTree::for_each_overlapping_pair(const std::function<void(Index, Index)>& visit) const {
@@ -424,8 +415,7 @@ std::vector<std::pair<Index, Index>> AabbTree::overlapping_pairs(const std::func
                                                                  const std::function<bool(Index, Index)>& apart) const {
   if (nodes_.empty()) return {};
   const std::function<bool(Index, Index)>* const passing = apart ? &apart : nullptr;
-  const std::vector<PlaneSlab> planes = apart ? plane_slabs() : std::vector<PlaneSlab>{};
-  const std::vector<PlaneSlab>* const slabs = planes.empty() ? nullptr : &planes;
+  const double margin = apart ? plane_margin() : 0.0;
   // The first levels of self_pairs' recursion, expanded into node pairs (tasks), then each task's
   // pairs on its own thread, gathered in task order.
   std::vector<std::pair<Index, Index>> tasks{{0, 0}};
@@ -450,7 +440,7 @@ std::vector<std::pair<Index, Index>> AabbTree::overlapping_pairs(const std::func
       auto visit = [&](Index x, Index y) {
         if (keep(x, y)) into.emplace_back(x, y);
       };
-      self_pairs(tasks[i].first, tasks[i].second, visit, passing, slabs);
+      self_pairs(tasks[i].first, tasks[i].second, visit, passing, margin);
     }
   });
   std::size_t total = 0;

@@ -182,17 +182,16 @@ private:
     Index end = 0;
   };
   static constexpr Index kLeafSize = 4;
-  /// Per triangle in the tree's order, the slab {x : low <= normal . x <= high} that holds it, normal
-  /// its unnormalised normal as computed and the bounds widened for the rounding of every dot product
-  /// with a vertex (by 1e-12 of the largest coordinate times the normal's 1-norm, over a thousand times
-  /// that rounding). Empty when a coordinate is not finite or above 1e60: nothing is then passed over.
-  struct PlaneSlab {
-    Vec3 normal;
-    double low, high;
-  };
-  [[nodiscard]] std::vector<PlaneSlab> plane_slabs() const;
-  /// Whether the corners of `face` all lie off `slab`, on one side: the two triangles do not meet.
-  [[nodiscard]] bool off_slab(const PlaneSlab& slab, Index face) const;
+  /// Whether the corners of face b all lie strictly on one side of face a's plane, or a's of b's: the
+  /// two triangles do not meet. Each plane as computed, widened by its spread over its own corners
+  /// and by `margin` times its normal's 1-norm (see plane_margin). False whenever a corner is not a
+  /// number.
+  [[nodiscard]] bool apart_by_planes(Index a, Index b, double margin) const;
+  /// The margin apart_by_planes needs: 1e-12 of the mesh's largest coordinate (plus 1e-300 for
+  /// products that underflow), over a thousand times the rounding of a dot product of a computed
+  /// normal with a corner; 0 (nothing is then passed over) when a coordinate is not finite or
+  /// exceeds 1e60.
+  [[nodiscard]] double plane_margin() const;
   /// Appends the subtree over faces_[begin, end) (their Morton codes sorted in `codes`); returns its root.
   Index build(const std::vector<std::uint64_t>& codes, Index begin, Index end);
   /// closest_point's search, passing over the triangles `beyond` rules out. Defined in aabb_tree.cpp.
@@ -212,10 +211,11 @@ private:
   /// Calls visit(fa, fb) for the pairs of triangles under nodes a and b whose boxes overlap, but those
   /// within a node apart(begin, end) passes over (apart may be null). Defined in aabb_tree.cpp, used
   /// there only (the visitor inlined: a self-intersection check visits a million pairs).
-  /// With `slabs` (plane_slabs()), also passing over the pairs a triangle's slab rules out.
+  /// With a `plane_margin` above 0, also passing over the pairs of triangles without a common corner
+  /// that apart_by_planes tells apart.
   template <class Visit> void self_pairs(Index a, Index b, Visit& visit,
                                          const std::function<bool(Index, Index)>* apart = nullptr,
-                                         const std::vector<PlaneSlab>* slabs = nullptr) const;
+                                         double plane_margin = 0.0) const;
   void cross_pairs(Index a, const AabbTree& other, Index b, const std::function<void(Index, Index)>& visit) const;
 
   const TriangleMesh& mesh_;
