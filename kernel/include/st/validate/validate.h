@@ -47,11 +47,13 @@ struct SolidOptions {
 };
 
 /// Topology, orientation and self-intersection check of a triangle mesh as a solid. Self-intersections
-/// are decided exactly for every pair of faces whose boxes overlap, but for two kinds of pair proven
+/// are decided exactly for every pair of faces whose boxes overlap, but for three kinds of pair proven
 /// unable to cross and passed over: faces around a corner whose fan is a height field over an axis
-/// plane, and faces within a patch (a node of the faces' tree) that projects one to one onto an axis
-/// plane (all its faces turn one way and its border is one loop projecting to a simple polygon). The
-/// count is that of testing every pair.
+/// plane, faces within a patch (a node of the faces' tree) that projects one to one onto an axis
+/// plane (all its faces turn one way and its border is one loop projecting to a simple polygon), and
+/// faces without a common corner one of which lies strictly on one side of the other's plane
+/// (AabbTree::overlapping_pairs, with a margin far wider than the rounding). The count is that of
+/// testing every pair.
 SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options = {});
 
 /// Distance statistics of points to a surface (exact closest-point distances), mm.
