@@ -20,11 +20,10 @@
 #include "st/io/report.h"
 #include "st/design/template_design.h"
 #include "st/validate/validate.h"
-#ifdef ST_HAVE_OCCT
-#include "st/occt/occt_text.h"
-#endif
+#include "st/occt/font_module.h"
 
 #include <nlohmann/json.hpp>
+#include <dlfcn.h>
 #include <malloc.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
@@ -231,6 +230,27 @@ int presets(int argc, char** argv) {
   return 0;
 }
 
+// The labels' outlines from the font module beside the tool (st/occt/font_module.h), loaded only here:
+// a case without labels never loads OpenCASCADE.
+void fill_label_outlines(std::vector<st::LabelSpec>& labels) {
+  if (labels.empty()) return;
+  std::error_code ec;
+  const std::filesystem::path tool = std::filesystem::read_symlink("/proc/self/exe", ec);
+  const std::string path = ((ec ? std::filesystem::path(".") : tool.parent_path()) / st::kFontModuleFile).string();
+  void* module = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!module) {
+    const char* why = dlerror();
+    throw st::InvalidInput("label '" + labels.front().name + "': its text needs the font module " + path + " (built " +
+                           "with OpenCASCADE), which does not load: " + (why ? why : "unknown reason"));
+  }
+  const auto fill = reinterpret_cast<st::FillLabelOutlinesEntry>(dlsym(module, st::kFontModuleEntry));
+  if (!fill) throw st::InvalidInput(path + ": not the labels' font module (no " + st::kFontModuleEntry + ")");
+  std::string error;
+  const int status = fill(&labels, &error);
+  if (status == 1) throw st::InvalidInput(error);
+  if (status != 0) throw st::GeometryError(error);
+}
+
 int design(int argc, char** argv) {
   std::string case_path, out_path, report_path;
   bool simplify = false;
@@ -268,9 +288,7 @@ int design(int argc, char** argv) {
       std::cerr << "warning: " << w << "\n";
 
   st::TemplateOptions o = st::template_options(c);
-#ifdef ST_HAVE_OCCT
-  st::fill_label_outlines(o.labels); // the text's outlines from the font (without: design_template refuses them)
-#endif
+  fill_label_outlines(o.labels); // the text's outlines from the font
   o.simplify_outer = simplify;
   o.tube_tolerance = tolerance;
   const st::TemplateResult r = st::design_template(bone, o);

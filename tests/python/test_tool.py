@@ -126,3 +126,33 @@ def test_case_with_an_overflowing_number_is_refused(tmp_path):
     p = run("design", str(case), "-o", str(tmp_path / "t.stl"))
     assert p.returncode == 2, p.stderr
     assert "case.json" in p.stderr and "not valid JSON" in p.stderr
+
+
+def test_labels_come_from_the_font_module_beside_the_tool_and_other_cases_need_none(tmp_path):
+    """The tool loads OpenCASCADE's fonts (surgical-template-fonts.so beside it) only for a case with
+    labels: a copy of the tool alone designs a case without labels, and refuses one with labels
+    naming the module; beside the module, the labels are cut in."""
+    alone = tmp_path / "alone"
+    alone.mkdir()
+    shutil.copy(TOOL, alone / "surgical-template")
+    tool = str(alone / "surgical-template")
+    plain, labelled = os.path.join(CASES, "vertebra-pedicle.json"), os.path.join(CASES, "tibia-osteotomy.json")
+    assert json.load(open(labelled)).get("labels") and not json.load(open(plain)).get("labels")
+    p = subprocess.run([tool, "design", plain, "-o", str(tmp_path / "plain.stl")], capture_output=True, text=True,
+                       timeout=600)
+    assert p.returncode == 0, p.stderr
+    out = tmp_path / "labelled.stl"
+    p = subprocess.run([tool, "design", labelled, "-o", str(out)], capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2
+    assert "surgical-template-fonts.so" in p.stderr and str(alone) in p.stderr, p.stderr
+    assert not out.exists()
+    module = os.path.join(os.path.dirname(TOOL), "surgical-template-fonts.so")
+    if not os.path.exists(module):
+        pytest.skip("built without OpenCASCADE: no font module")
+    shutil.copy(module, alone / "surgical-template-fonts.so")
+    rep = tmp_path / "r.json"
+    p = subprocess.run([tool, "design", labelled, "-o", str(out), "--report", str(rep)], capture_output=True,
+                       text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    report = json.loads(rep.read_text())
+    assert report["solid"]["valid"] and report["labels"]
