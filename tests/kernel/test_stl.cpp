@@ -2,6 +2,12 @@
 
 #include "mesh_io_fixtures.h"
 
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <map>
+#include <random>
+
 namespace {
 
 using namespace mesh_io_test;
@@ -176,6 +182,82 @@ TEST(MeshIoStl, LargeBinaryIsReadInLinearTime) {
   EXPECT_EQ(m.face_count(), 2u * n);
   EXPECT_EQ(m.vertex_count(), 2u * (n + 1));
   EXPECT_LT(seconds, 5.0); // about 0.02 s in a release build
+}
+
+// A file large enough to be read in ranges on several threads (ranges of at least 2^17 triangles):
+// the mesh must be the one a single pass gives. Reference: vertices numbered in order of first
+// appearance over the triangles in file order by a std::map of the corners' float32 bits (-0.0 as
+// 0.0), degenerate triangles dropped after welding.
+TEST(MeshIoStl, LargeBinaryReadInRangesIsTheSinglePassMesh) {
+  const int side = 400; // a grid of 400 x 400 squares: 320k triangles, shuffled
+  st::TriangleMesh grid;
+  for (int j = 0; j <= side; ++j)
+    for (int i = 0; i <= side; ++i)
+      grid.positions.emplace_back(0.25 * i, 0.25 * j, std::sin(0.05 * i) * std::cos(0.03 * j));
+  auto at = [&](int i, int j) { return static_cast<st::Index>(j * (side + 1) + i); };
+  for (int j = 0; j < side; ++j)
+    for (int i = 0; i < side; ++i) {
+      grid.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      grid.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  std::mt19937 rng(7);
+  std::shuffle(grid.triangles.begin(), grid.triangles.end(), rng);
+  const std::size_t n = grid.triangles.size();
+  // -0.0 in the second half where 0.0 came first; degenerate triangles in both halves; a vertex
+  // first seen in the last triangles.
+  grid.positions.push_back(st::Vec3(-0.0, -0.0, std::sin(0.0) * std::cos(0.0)));
+  const st::Index negative_zero = grid.vertex_count() - 1;
+  grid.triangles[3 * n / 4] = {negative_zero, at(1, 0), at(1, 1)};
+  grid.triangles[n / 3] = {at(5, 5), at(5, 5), at(6, 6)};
+  grid.triangles[n - 2] = {at(7, 7), at(8, 8), at(7, 7)};
+  grid.positions.emplace_back(-3.0, -3.0, 1.0);
+  grid.triangles.push_back({grid.vertex_count() - 1, at(0, 0), at(1, 0)});
+  const std::string bytes = stl_binary(grid);
+
+  auto bits_of = [](const st::Vec3& p) {
+    std::array<std::uint32_t, 3> b{};
+    for (int d = 0; d < 3; ++d) {
+      b[static_cast<std::size_t>(d)] = std::bit_cast<std::uint32_t>(static_cast<float>(p[d]));
+      if (b[static_cast<std::size_t>(d)] == 0x80000000u) b[static_cast<std::size_t>(d)] = 0;
+    }
+    return b;
+  };
+  std::map<std::array<std::uint32_t, 3>, st::Index> ids;
+  st::TriangleMesh expected;
+  std::size_t degenerate = 0;
+  for (const st::Triangle& t : grid.triangles) {
+    st::Triangle u{};
+    for (int k = 0; k < 3; ++k) {
+      const auto b = bits_of(grid.positions[t[static_cast<std::size_t>(k)]]);
+      const auto [it, fresh] = ids.emplace(b, static_cast<st::Index>(expected.positions.size()));
+      if (fresh)
+        expected.positions.emplace_back(std::bit_cast<float>(b[0]), std::bit_cast<float>(b[1]),
+                                        std::bit_cast<float>(b[2]));
+      u[static_cast<std::size_t>(k)] = it->second;
+    }
+    if (u[0] == u[1] || u[1] == u[2] || u[0] == u[2]) ++degenerate;
+    else expected.triangles.push_back(u);
+  }
+  ASSERT_EQ(degenerate, 2u);
+
+  st::ReadReport report;
+  const st::TriangleMesh m = read_memory(bytes, st::MeshFormat::Stl, &report);
+  EXPECT_EQ(m.positions, expected.positions);
+  EXPECT_EQ(m.triangles, expected.triangles);
+  EXPECT_EQ(report.input_triangles, grid.triangles.size());
+  EXPECT_EQ(report.degenerate_dropped, degenerate);
+  EXPECT_EQ(report.merged_vertices, 3 * grid.triangles.size() - expected.positions.size());
+
+  // A corner that is not finite is named as one pass names it: the first in the file.
+  st::TriangleMesh bad = grid;
+  bad.positions.push_back(st::Vec3(std::numeric_limits<double>::quiet_NaN(), 0, 0));
+  const st::Index nan = bad.vertex_count() - 1;
+  bad.triangles[n - 5][2] = nan;
+  expect_invalid([&] { read_memory(stl_binary(bad), st::MeshFormat::Stl); },
+                 {"triangle " + std::to_string(n - 5) + " corner 2", "non-finite"});
+  bad.triangles[n / 5][0] = nan;
+  expect_invalid([&] { read_memory(stl_binary(bad), st::MeshFormat::Stl); },
+                 {"triangle " + std::to_string(n / 5) + " corner 0", "non-finite"});
 }
 
 // ---- PLY ----------------------------------------------------------------------------------------

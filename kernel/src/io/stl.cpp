@@ -1,9 +1,11 @@
 // STL, binary and ASCII: the reader (corners welded) and the binary writer.
 
 #include "mesh_reader.h"
+#include "detail/parallel.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cerrno>
 #include <charconv>
@@ -11,9 +13,11 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <system_error>
 #include <vector>
@@ -112,6 +116,84 @@ std::string stl_header_text(const char* data) {
   return std::string(h);
 }
 
+using CornerBits = std::array<std::uint32_t, 3>;
+
+/// The corners of triangles [first, end) of a binary STL in order, in batches: each corner's float32
+/// coordinate bits (-0.0 made 0.0) and hash, the welder's slots for a batch prefetched so that their
+/// cache misses overlap, then corner(bits, hash) for each, and triangle() after a triangle's three.
+/// Stops at a corner that is not finite and returns what to say about it (nothing when all are).
+template <class Corner, class TriangleDone>
+std::optional<std::string> for_each_stl_corner(const char* data, std::size_t first, std::size_t end,
+                                               const CornerWelder& welder, Corner&& corner, TriangleDone&& triangle) {
+  constexpr std::size_t kBatch = 32; // triangles
+  CornerBits bits[kBatch * 3];
+  std::uint64_t hashes[kBatch * 3];
+  for (std::size_t begin = first; begin < end; begin += kBatch) {
+    const std::size_t count = std::min(kBatch, end - begin);
+    for (std::size_t b = 0; b < count; ++b) {
+      const std::size_t t = begin + b;
+      const char* record = data + kStlHeaderBytes + kStlTriangleBytes * t;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const char* at = record + 12 + 12 * k;
+        CornerBits& c = bits[3 * b + k];
+        c = {load_u32_le(at), load_u32_le(at + 4), load_u32_le(at + 8)};
+        if (!is_finite_bits(c[0]) || !is_finite_bits(c[1]) || !is_finite_bits(c[2]))
+          return "triangle " + std::to_string(t) + " corner " + std::to_string(k) + " (byte offset " +
+                 std::to_string(at - data) + ") has a non-finite coordinate " +
+                 triple(float_from_bits(c[0]), float_from_bits(c[1]), float_from_bits(c[2]));
+        for (int d = 0; d < 3; ++d)
+          if (c[d] == 0x80000000u) c[d] = 0; // -0.0 welds with 0.0
+        hashes[3 * b + k] = CornerWelder::hash(c[0], c[1], c[2]);
+        welder.prefetch(hashes[3 * b + k]);
+      }
+    }
+    for (std::size_t b = 0; b < count; ++b) {
+      for (std::size_t k = 0; k < 3; ++k) corner(bits[3 * b + k], hashes[3 * b + k]);
+      triangle();
+    }
+  }
+  return std::nullopt;
+}
+
+Vec3 position_of(const CornerBits& c) {
+  return Vec3(float_from_bits(c[0]), float_from_bits(c[1]), float_from_bits(c[2]));
+}
+
+/// A range of a binary STL's triangles welded on its own: its vertices numbered in order of first
+/// appearance in the range, its triangles in those numbers (degenerate ones too).
+struct WeldedRange {
+  std::vector<CornerBits> vertices;
+  std::vector<std::uint64_t> hashes; // of each vertex
+  std::vector<Triangle> triangles;
+  std::optional<std::string> failure; // the range's first corner that is not finite
+};
+
+WeldedRange weld_range(const char* data, std::size_t first, std::size_t end) {
+  WeldedRange r;
+  const std::size_t n = end - first;
+  CornerWelder welder(n / 2 + n / 16 + 4);
+  r.vertices.reserve(n / 2 + n / 16 + 4);
+  r.hashes.reserve(n / 2 + n / 16 + 4);
+  r.triangles.reserve(n);
+  Triangle tri{};
+  int k = 0;
+  r.failure = for_each_stl_corner(
+      data, first, end, welder,
+      [&](const CornerBits& c, std::uint64_t h) {
+        const auto next = static_cast<Index>(r.vertices.size());
+        tri[static_cast<std::size_t>(k++)] = welder.find_or_insert(c[0], c[1], c[2], h, next);
+        if (tri[static_cast<std::size_t>(k - 1)] == next) {
+          r.vertices.push_back(c);
+          r.hashes.push_back(h);
+        }
+      },
+      [&] {
+        r.triangles.push_back(tri);
+        k = 0;
+      });
+  return r;
+}
+
 /// Precondition: the size is exactly 84 + 50 * n.
 TriangleMesh read_stl_binary(const char* data, const std::string& name, ReadReport* report) {
   const std::size_t n = load_u32_le(data + 80);
@@ -120,40 +202,58 @@ TriangleMesh read_stl_binary(const char* data, const std::string& name, ReadRepo
   builder.mesh().triangles.reserve(n);
   builder.mesh().positions.reserve(n / 2 + n / 16 + 4); // a closed mesh has about n / 2
   CornerWelder welder(n / 2 + n / 16 + 4);
-
-  // Corners go through the welder in batches: first all their slots are prefetched, so the cache
-  // misses of a batch overlap, then they are looked up in file order (vertices are numbered in
-  // order of first appearance).
-  constexpr std::size_t kBatch = 32; // triangles
-  std::uint32_t bits[kBatch * 3][3];
-  std::uint64_t hashes[kBatch * 3];
-  for (std::size_t first = 0; first < n; first += kBatch) {
-    const std::size_t count = std::min(kBatch, n - first);
-    for (std::size_t b = 0; b < count; ++b) {
-      const std::size_t t = first + b;
-      const char* record = data + kStlHeaderBytes + kStlTriangleBytes * t;
-      for (std::size_t k = 0; k < 3; ++k) {
-        const char* corner = record + 12 + 12 * k;
-        std::uint32_t* c = bits[3 * b + k];
-        c[0] = load_u32_le(corner);
-        c[1] = load_u32_le(corner + 4);
-        c[2] = load_u32_le(corner + 8);
-        if (!is_finite_bits(c[0]) || !is_finite_bits(c[1]) || !is_finite_bits(c[2]))
-          fail(name, "triangle " + std::to_string(t) + " corner " + std::to_string(k) + " (byte offset " +
-                         std::to_string(corner - data) + ") has a non-finite coordinate " +
-                         triple(float_from_bits(c[0]), float_from_bits(c[1]), float_from_bits(c[2])));
-        for (int d = 0; d < 3; ++d)
-          if (c[d] == 0x80000000u) c[d] = 0; // -0.0 welds with 0.0
-        hashes[3 * b + k] = CornerWelder::hash(c[0], c[1], c[2]);
-        welder.prefetch(hashes[3 * b + k]);
+  // Vertices are numbered in order of first appearance in the file. A large file is read in a few
+  // consecutive ranges on threads of their own, each welded on its own; then the ranges' vertices,
+  // in order, go through the first range's welder (a vertex that first appears in a later range
+  // takes the next number there) and their triangles are renumbered: the same mesh as one pass.
+  constexpr std::size_t kMinRange = std::size_t{1} << 17; // triangles
+  const std::size_t ranges = std::clamp<std::size_t>(n / kMinRange, 1, detail::thread_count());
+  auto range_begin = [&](std::size_t r) { return n * r / ranges; };
+  std::vector<WeldedRange> later(ranges - 1);
+  std::optional<std::string> failure;
+  auto read_first_range = [&] {
+    Index v[3];
+    int k = 0;
+    failure = for_each_stl_corner(
+        data, 0, range_begin(1), welder,
+        [&](const CornerBits& c, std::uint64_t h) { v[k++] = add_stl_corner(builder, welder, c.data(), h); },
+        [&] {
+          builder.add_triangle(v[0], v[1], v[2]);
+          k = 0;
+        });
+  };
+  std::vector<std::exception_ptr> thrown(ranges); // what a range threw (out of memory): not out of its thread
+  detail::parallel_for(ranges, 1, [&](std::size_t, std::size_t r, std::size_t) {
+    try {
+      if (r > 0) later[r - 1] = weld_range(data, range_begin(r), range_begin(r + 1));
+      else read_first_range();
+    } catch (...) {
+      thrown[r] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& e : thrown)
+    if (e) std::rethrow_exception(e);
+  for (std::size_t r = 1; r < ranges && !failure; ++r) { // in file order
+    const WeldedRange& range = later[r - 1];
+    if (range.failure) { // the first in the file: the ranges before it have none
+      failure = range.failure;
+      break;
+    }
+    std::vector<Index> number(range.vertices.size());
+    constexpr std::size_t kBatch = 64;
+    for (std::size_t begin = 0; begin < range.vertices.size(); begin += kBatch) {
+      const std::size_t end = std::min(range.vertices.size(), begin + kBatch);
+      for (std::size_t i = begin; i < end; ++i) welder.prefetch(range.hashes[i]);
+      for (std::size_t i = begin; i < end; ++i) {
+        const CornerBits& c = range.vertices[i];
+        const auto next = static_cast<Index>(builder.mesh().positions.size());
+        number[i] = welder.find_or_insert(c[0], c[1], c[2], range.hashes[i], next);
+        if (number[i] == next) builder.add_vertex(position_of(c));
       }
     }
-    for (std::size_t b = 0; b < count; ++b) {
-      Index v[3];
-      for (std::size_t k = 0; k < 3; ++k) v[k] = add_stl_corner(builder, welder, bits[3 * b + k], hashes[3 * b + k]);
-      builder.add_triangle(v[0], v[1], v[2]);
-    }
+    for (const Triangle& t : range.triangles) builder.add_triangle(number[t[0]], number[t[1]], number[t[2]]);
   }
+  if (failure) fail(name, *failure);
   const std::size_t merged = 3 * n - builder.mesh().positions.size();
   return builder.finish(report, merged);
 }
