@@ -155,10 +155,6 @@ std::optional<std::string> for_each_stl_corner(const char* data, std::size_t fir
   return std::nullopt;
 }
 
-Vec3 position_of(const CornerBits& c) {
-  return Vec3(float_from_bits(c[0]), float_from_bits(c[1]), float_from_bits(c[2]));
-}
-
 /// A range of a binary STL's triangles welded on its own: its vertices numbered in order of first
 /// appearance in the range, its triangles in those numbers (degenerate ones too).
 struct WeldedRange {
@@ -176,13 +172,13 @@ WeldedRange weld_range(const char* data, std::size_t first, std::size_t end) {
   r.hashes.reserve(n / 2 + n / 16 + 4);
   r.triangles.reserve(n);
   Triangle tri{};
-  int k = 0;
+  std::size_t k = 0;
   r.failure = for_each_stl_corner(
       data, first, end, welder,
       [&](const CornerBits& c, std::uint64_t h) {
         const auto next = static_cast<Index>(r.vertices.size());
-        tri[static_cast<std::size_t>(k++)] = welder.find_or_insert(c[0], c[1], c[2], h, next);
-        if (tri[static_cast<std::size_t>(k - 1)] == next) {
+        tri[k++] = welder.find_or_insert(c[0], c[1], c[2], h, next);
+        if (tri[k - 1] == next) {
           r.vertices.push_back(c);
           r.hashes.push_back(h);
         }
@@ -244,12 +240,8 @@ TriangleMesh read_stl_binary(const char* data, const std::string& name, ReadRepo
     for (std::size_t begin = 0; begin < range.vertices.size(); begin += kBatch) {
       const std::size_t end = std::min(range.vertices.size(), begin + kBatch);
       for (std::size_t i = begin; i < end; ++i) welder.prefetch(range.hashes[i]);
-      for (std::size_t i = begin; i < end; ++i) {
-        const CornerBits& c = range.vertices[i];
-        const auto next = static_cast<Index>(builder.mesh().positions.size());
-        number[i] = welder.find_or_insert(c[0], c[1], c[2], range.hashes[i], next);
-        if (number[i] == next) builder.add_vertex(position_of(c));
-      }
+      for (std::size_t i = begin; i < end; ++i)
+        number[i] = add_stl_corner(builder, welder, range.vertices[i].data(), range.hashes[i]);
     }
     for (const Triangle& t : range.triangles) builder.add_triangle(number[t[0]], number[t[1]], number[t[2]]);
   }
