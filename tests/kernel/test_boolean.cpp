@@ -199,5 +199,40 @@ TEST(Boolean, FacesPassingWithinAnUlpOfAVertex) {
   EXPECT_LE(retried, 2 * kCases * 15 / 100);
 }
 
+TEST(Boolean, ResultLeftUncheckedIsTheCheckedOneOrFailsTheSolidCheck) {
+  // A caller that checks the whole result (check_solid) may leave the faces near the curve unchecked
+  // (check_result false, the design's guide) and redo the operation checked when its check fails: so
+  // whatever the Boolean's own check would have rejected must fail check_solid. Boxes tilted at random
+  // through a cube's corner within half a float ulp (as above), where rounding the curve points
+  // folds faces: each unchecked result is the checked one, face for face, or fails check_solid.
+  const TriangleMesh cube = make_box(Vec3(600, 600, 600), Vec3(610, 610, 610));
+  const Vec3 corner(610, 600, 610);
+  std::mt19937 rng(20261207);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  BooleanOptions unchecked;
+  unchecked.check_result = false;
+  int same = 0, refused = 0;
+  for (int k = 0; k < 100; ++k) {
+    const Eigen::AngleAxisd turn(0.5 * u(rng), Vec3(u(rng), u(rng), u(rng)).normalized());
+    const Vec3 near = corner + 3e-5 * Vec3(u(rng), u(rng), u(rng));
+    TriangleMesh box = make_box(Vec3(-5, -5, -10), Vec3(5, 5, 0));
+    for (Vec3& p : box.positions) p = near + turn * (p - Vec3(1.3, -2.1, 0.0));
+    for (BooleanOp op : {BooleanOp::Union, BooleanOp::Difference}) {
+      const BooleanResult checked = mesh_boolean(cube, box, op);
+      const BooleanResult free = mesh_boolean(cube, box, op, unchecked);
+      if (free.mesh.positions == checked.mesh.positions && free.mesh.triangles == checked.mesh.triangles) {
+        ++same;
+        continue;
+      }
+      EXPECT_GT(checked.attempts, 1) << "case " << k << ": a result the check passed at once differs unchecked";
+      const SolidReport r = check_solid(free.mesh);
+      EXPECT_FALSE(r.valid()) << "case " << k << ": unchecked, a result the Boolean's check refuses passes check_solid";
+      ++refused;
+    }
+  }
+  std::printf("%d unchecked results as checked, %d refused by check_solid\n", same, refused);
+  EXPECT_GT(refused, 0); // the cases reach what the Boolean's check catches
+}
+
 } // namespace
 } // namespace st

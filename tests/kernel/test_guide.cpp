@@ -219,6 +219,29 @@ TEST_F(Bump, TheBoneTreeGivenGivesTheSameGuide) {
   EXPECT_THROW(build_guide(r.body, r.body_inner_faces, bone, parts, g), InvalidInput);
 }
 
+// The design checks the finished guide, so its Booleans leave the faces near their curves to that check
+// (check_booleans false): the guide is the one they give checked, or fails check_solid (and is then
+// built again checked). Tubes through a vertex, along edges, overlapping, and flush on the bone.
+TEST_F(Bump, BooleansLeftToTheGuidesCheckGiveTheCheckedGuide) {
+  TemplateOptions o = options();
+  o.tubes = {tube("through a vertex", Vec3(0, 0, 6.0), -Vec3::UnitZ()),
+             tube("along edges", Vec3(5, 5, 6.0 * std::exp(-50.0 / 150.0)), Vec3(-1, -1, -2)),
+             tube("beside it", Vec3(6.5, 5, 6.0 * std::exp(-67.25 / 150.0)), Vec3(-1, -1, -2)),
+             tube("flush", Vec3(-6, 3, 6.0 * std::exp(-45.0 / 150.0)), -Vec3::UnitZ(), 0.0, 2.0)};
+  const TemplateResult r = design_template(bone, o);
+  const GuideParts parts{o.tubes, {}, {}};
+  GuideOptions g;
+  g.thickness = o.thickness;
+  const GuideResult checked = build_guide(r.body, r.body_inner_faces, bone, parts, g);
+  g.check_booleans = false;
+  const GuideResult left = build_guide(r.body, r.body_inner_faces, bone, parts, g);
+  if (left.mesh.triangles != checked.mesh.triangles || left.mesh.positions != checked.mesh.positions)
+    EXPECT_FALSE(check_solid(left.mesh).valid()) << "a guide the Booleans' checks change passes check_solid";
+  EXPECT_TRUE(check_solid(checked.mesh).valid());
+  EXPECT_EQ(r.shell.triangles, checked.mesh.triangles); // the design's guide
+  EXPECT_EQ(r.shell.positions, checked.mesh.positions);
+}
+
 TEST_F(Bump, OverlappingSleevesMergeIntoOneSolid) {
   TemplateOptions o = options();
   for (int k = 0; k < 4; ++k) {

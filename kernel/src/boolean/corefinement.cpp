@@ -12,15 +12,12 @@
 #include "st/core/topology.h"
 #include "st/core/union_find.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <numeric>
-#include <optional>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -522,8 +519,10 @@ private:
       result.collapsed_edges = collapse_short_edges(result, origin, short_edge_, fresh, unchanged);
       if (debug_) std::fprintf(stderr, "  collapsed %zu edges under %.3g\n", result.collapsed_edges, short_edge_);
     }
-    check_fresh(out, fresh, unchanged);
-    check_closed_at_curve(out, fresh, unchanged);
+    if (options_.check_result) {
+      check_fresh(out, fresh, unchanged);
+      check_closed_at_curve(out, fresh, unchanged);
+    }
     result.intersecting_pairs = seam_.size();
     result.curve_segments = seam_.size();
     result.split_faces = split_[0].size() + split_[1].size();

@@ -83,11 +83,21 @@ std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<Orient
   }
   const double margin = 1e-9 * (size + all.max.cwiseAbs().maxCoeff() + all.min.cwiseAbs().maxCoeff());
   all = all.inflated(margin);
+  // Per vertex, the sides of `all` it lies beyond (bit 2k below it on axis k, bit 2k + 1 above): a
+  // face's box misses `all` exactly when its three corners lie beyond one same side.
+  std::vector<std::uint8_t> beyond(mesh.vertex_count());
+  for (Index v = 0; v < mesh.vertex_count(); ++v) {
+    const Vec3& p = mesh.positions[v];
+    unsigned code = 0;
+    for (int k = 0; k < 3; ++k)
+      code |= (p[k] < all.min[k] ? 1u : 0u) << (2 * k) | (p[k] > all.max[k] ? 2u : 0u) << (2 * k);
+    beyond[v] = static_cast<std::uint8_t>(code);
+  }
   std::vector<Index> out;
   for (Index f = 0; f < mesh.face_count(); ++f) {
-    const BoundingBox box = triangle_box(mesh, f);
-    if (!box.overlaps(all)) continue;
     const Triangle& t = mesh.triangles[f];
+    if (beyond[t[0]] & beyond[t[1]] & beyond[t[2]]) continue;
+    const BoundingBox box = triangle_box(mesh, f);
     const std::array<Vec3, 3> corners = {mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]};
     for (const OrientedBox& b : boxes)
       if (box.overlaps(b.world.inflated(margin)) && b.overlaps(corners, margin)) {

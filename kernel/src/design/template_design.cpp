@@ -1,6 +1,7 @@
 #include "st/design/template_design.h"
 #include "detail/parallel.h"
 #include "detail/timing.h"
+#include "design/template_analyses.h"
 #include "design/template_shell.h"
 #include "st/guide/sleeve.h"
 
@@ -32,6 +33,12 @@ namespace {
 
 using detail::Clock;
 using detail::seconds_since;
+using template_detail::analyse_removal;
+using template_detail::analyse_shell;
+using template_detail::Analyses;
+using template_detail::AnalysisInputs;
+using template_detail::contact_reach;
+using template_detail::PreparedAnalyses;
 
 void check_options(const TemplateOptions& o) {
   auto finite_positive = [](double v) { return std::isfinite(v) && v > 0.0; };
@@ -152,139 +159,6 @@ RimChange apply_block_out(CutResult& inner, BlockOutResult&& b) {
   inner.source = std::move(source);
   inner.source_vertex = std::move(source_vertex);
   return change;
-}
-
-// The inner surface's area within `reach` of the bone: kept faces lie at the clearance (their
-// whole area counts); block-out fills are sampled (16 points each).
-double contact_area(const TriangleMesh& inner, const std::vector<std::uint8_t>& filled, const AabbTree& bone,
-                    double reach) {
-  double area = 0.0;
-  for (Index f = 0; f < inner.face_count(); ++f) {
-    const Triangle& t = inner.triangles[f];
-    const Vec3 &a = inner.positions[t[0]], &b = inner.positions[t[1]], &c = inner.positions[t[2]];
-    const double full = 0.5 * triangle_normal(inner, f).norm();
-    if (f >= filled.size() || !filled[f]) {
-      area += full;
-      continue;
-    }
-    constexpr int k = 4;
-    for (int i = 0; i < k; ++i)
-      for (int j = 0; i + j < k; ++j)
-        for (int up = 0; up < (i + j + 2 <= k ? 2 : 1); ++up) {
-          const double s = (i + (up ? 2.0 : 1.0) / 3.0) / k, r = (j + (up ? 2.0 : 1.0) / 3.0) / k;
-          const Vec3 p = a + s * (b - a) + r * (c - a);
-          if (const auto cp = bone.closest_point(p, reach); cp && cp->distance <= reach) area += full / (k * k);
-        }
-  }
-  return area;
-}
-
-// The analyses of a candidate guide that do not change it: the fit (the inner surface to the bone
-// region it was cut from, the outer surface to the inner, the rim to the curve drawn on the bone), the
-// stability, and how it comes off the bone along the insertion direction with its contact area. The
-// fit and the stability read only the shell's surfaces: they start as soon as the shell is built and
-// run beside the parts' Boolean (which runs on one thread) and the guide's check. The removal check
-// reads the finished guide: it starts when the guide is built and runs beside its check.
-struct Analyses {
-  std::optional<TemplateFit> fit;
-  std::optional<StabilityResult> stability;
-  std::optional<RemovalReport> removal;
-  double inner_area_mm2 = 0.0, contact_area_mm2 = 0.0;
-  double stability_seconds = 0.0, removal_seconds = 0.0;
-};
-
-// What the shell's analyses read that does not depend on the shell, made beside it when the insertion
-// direction is known that early (without block-out): the stability's contacts and report, the tree
-// of the fit (over the inner surface) and that of the stability's extension (over the covered bone).
-// `made` is joined before any of it is read; when its making failed, the analyses make it themselves.
-struct PreparedAnalyses {
-  std::optional<StabilityResult> stability;
-  std::optional<AabbTree> inner_tree, covered_tree;
-  double resolution = 0.0; // the one the contacts were found at
-  double stability_seconds = 0.0;
-  std::exception_ptr failure;
-  detail::Background* made = nullptr;
-};
-
-struct AnalysisInputs {
-  const TriangleMesh& inner;       // the shell's inner surface (the region at the clearance)
-  const std::vector<Index>& rim;   // the inner surface's border
-  const std::vector<Vec3>& outer;  // the outer surface's points
-  const TriangleMesh& bone_region; // the region as cut from the bone
-  const std::vector<Vec3>& curve;  // the curve drawn on the bone
-  const AabbTree* bone_tree;       // with the insertion analysis: for the stability and the removal
-  const MeshTopology& bone_topology;
-  const SweepTest* sweep; // the bone prepared for sweeps, when block-out made it
-  const InsertionReport& insertion;
-  double resolution;
-  PreparedAnalyses* prepared; // made beside the shell, or null
-};
-
-double contact_reach(const TemplateOptions& options, double resolution) {
-  return options.clearance + 0.25 * resolution;
-}
-
-TemplateFit measure_fit(const AnalysisInputs& in, const AabbTree* inner_tree) {
-  TemplateFit fit;
-  // The inner surface's vertices were moved from the region's (numbered alike where block-out and
-  // skirt left them): each one's source bounds its search, and at zero clearance is its closest point.
-  std::vector<Index> source(in.inner.vertex_count(), kInvalidIndex);
-  for (Index v = 0; v < std::min(in.inner.vertex_count(), in.bone_region.vertex_count()); ++v) source[v] = v;
-  fit.inner_to_bone = distances_to_surface(in.inner.positions, in.bone_region, source);
-  fit.outer_to_inner = distances_to_surface(in.outer, in.inner, {}, inner_tree);
-  // The curve lies on the bone, so the expected distance is the clearance.
-  std::vector<Vec3> rim_points;
-  for (const Index v : in.rim) rim_points.push_back(in.inner.positions[v]); // the inner region, moved there
-  fit.rim_to_curve = distances_to_polyline(rim_points, in.curve);
-  return fit;
-}
-
-// The fit (on a thread of its own) and the stability (on the caller's thread) of a candidate shell,
-// from what was prepared beside the shell when there is that.
-void analyse_shell(const AnalysisInputs& in, const TemplateOptions& options, Analyses& out) {
-  const InsertionReport& ins = in.insertion;
-  const bool stability = in.bone_tree != nullptr;
-  PreparedAnalyses* prepared = in.prepared;
-  if (prepared) {
-    prepared->made->join();
-    // Made for another cell size than the shell's (none so far), or failed: made here instead.
-    if (prepared->failure || prepared->resolution != in.resolution) prepared = nullptr;
-  }
-  const AabbTree* fit_tree = prepared && prepared->inner_tree ? &*prepared->inner_tree : nullptr;
-  std::optional<detail::Background> fit;
-  if (options.measure_fit) fit.emplace([&] { out.fit = measure_fit(in, fit_tree); });
-  if (stability) {
-    const auto t0 = Clock::now();
-    // Contacts of the inner surface (block-out fills left out: they bridge what the guide cannot reach).
-    const double reach = contact_reach(options, in.resolution);
-    std::optional<AabbTree> region_tree;
-    const AabbTree& covered = prepared && prepared->covered_tree
-                                  ? *prepared->covered_tree
-                                  : region_tree.emplace(ins.region.empty() ? in.inner : ins.region);
-    if (prepared && prepared->stability) {
-      out.stability = *prepared->stability;
-      finish_stability(*out.stability, *in.bone_tree, in.outer, in.curve, covered, 0.05, &in.bone_topology);
-      out.stability_seconds = prepared->stability_seconds + seconds_since(t0);
-    } else {
-      out.stability = guide_stability(in.inner, *in.bone_tree, ins.direction, reach, in.outer, in.curve, covered, 0.05,
-                                      ins.filled, false, &in.bone_topology);
-      out.stability_seconds = seconds_since(t0);
-    }
-  }
-  if (fit) fit->join();
-}
-
-// How the candidate guide (or shell) comes off the bone, and its contact area.
-void analyse_removal(const AnalysisInputs& in, const TriangleMesh& guide, const AabbTree& guide_tree,
-                     const TemplateOptions& options, Analyses& out) {
-  const auto t0 = Clock::now();
-  const InsertionReport& ins = in.insertion;
-  std::optional<SweepTest> own;
-  const SweepTest& sweep = in.sweep ? *in.sweep : own.emplace(*in.bone_tree, &in.bone_topology);
-  out.removal = sweep(guide, ins.direction, options.removal_distance, SweepStart::shrunk, &guide_tree);
-  out.inner_area_mm2 = surface_area(in.inner);
-  out.contact_area_mm2 = contact_area(in.inner, ins.filled, *in.bone_tree, contact_reach(options, in.resolution));
-  out.removal_seconds = seconds_since(t0);
 }
 
 } // namespace
@@ -505,17 +379,26 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
         if (!options.check || check(shell, true)) return true;
         continue;
       }
+      // Checked, the Booleans leave the faces they make to the guide's check, which covers them; when
+      // it fails, or a Boolean throws, the guide is built again with the Booleans' own checks, which
+      // perturb a degenerate contact away: the guide is then the one those checks give.
       std::optional<GeometryError> failure;
-      try {
-        guide = build_guide(shell, result.body_inner_faces, bone, GuideParts{tubes, options.slots, options.labels},
-                            guide_options);
-        result.times.boolean += guide->seconds;
-        result.times.validation += guide->blade_path_seconds;
-        analyse_guide_beside(guide->mesh);
-        if (!options.check || check(guide->mesh, true)) return true;
-        failure.emplace("the guide with its tubes failed its check: " + result.solid.summary());
-      } catch (const GeometryError& e) {
-        failure = e;
+      for (guide_options.check_booleans = !options.check;; guide_options.check_booleans = true) {
+        failure.reset();
+        try {
+          guide = build_guide(shell, result.body_inner_faces, bone, GuideParts{tubes, options.slots, options.labels},
+                              guide_options);
+          result.times.boolean += guide->seconds;
+          result.times.validation += guide->blade_path_seconds;
+          analyse_guide_beside(guide->mesh);
+          if (!options.check || check(guide->mesh, true)) return true;
+          failure.emplace("the guide with its tubes failed its check: " + result.solid.summary());
+        } catch (const GeometryError& e) {
+          failure = e;
+        }
+        if (guide_options.check_booleans) break;
+        analysing_guide.reset(); // it reads the guide
+        guide.reset();
       }
       if (!options.check || check(shell)) throw *failure; // the parts' doing, not the shell's
       analysing_guide.reset();                            // it reads the guide

@@ -17,6 +17,7 @@
 #include "st/guide/inspect.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <array>
 #include <limits>
@@ -529,6 +530,7 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
   result.columns_seconds = seconds_since(t0) - result.placement_seconds;
   if (!columns.empty()) {
     BooleanOptions o = quick;
+    o.check_result = options.check_booleans;
     o.seat.assign(shell.face_count(), 0);
     std::fill(o.seat.begin(), o.seat.begin() + static_cast<std::ptrdiff_t>(inner_faces), 1);
     BooleanResult merged = mesh_boolean(result.mesh, columns, BooleanOp::Union, o);
@@ -563,7 +565,9 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
   note_near_paths(tubes, result.tubes);
   note_slot_meetings(tubes, slots, housings, options, result);
   if (!bores.empty()) {
-    BooleanResult cut = mesh_boolean(result.mesh, bores, BooleanOp::Difference, quick);
+    BooleanOptions o = quick;
+    o.check_result = options.check_booleans;
+    BooleanResult cut = mesh_boolean(result.mesh, bores, BooleanOp::Difference, o);
     note(cut);
     std::vector<std::uint8_t> from_tube(cut.mesh.face_count());
     for (Index f = 0; f < cut.mesh.face_count(); ++f)

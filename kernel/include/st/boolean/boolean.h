@@ -36,6 +36,11 @@ struct BooleanOptions {
   /// Round the result's coordinates to float32 (what an STL holds) and retry with a perturbation if
   /// that would fold a triangle near the intersection curve.
   bool round_to_float = true;
+  /// After rounding, check exactly that the faces made or moved near the intersection curve close up
+  /// and cross no face around them, and retry with a perturbation when they do not. A caller that
+  /// checks the whole result (check_solid, which tests every pair of faces) may leave it to that check
+  /// and, when the result fails it, do the operation again with this on.
+  bool check_result = true;
   int max_attempts = 6;
 };
 

@@ -40,6 +40,11 @@ struct GuideOptions {
   /// Each slot's blade path checked free on the finished guide (check_blade_path); a guide that fails
   /// it is refused, naming the slot and the place.
   bool check_blade_paths = true;
+  /// The Booleans with the template check the faces they make near their curves (check_result). False
+  /// when the caller checks the finished guide with check_solid, which covers those faces, and builds it
+  /// again with this on when that check fails or this throws a GeometryError (then a degenerate
+  /// contact is perturbed away as before, and the guide is the one it would have been).
+  bool check_booleans = true;
   /// AabbTree(bone), the tree over all of the bone's faces, when the caller has one (the design's),
   /// built on this very mesh object (refused otherwise), its coordinates finite: the bone under the
   /// parts is found in it instead of by a pass over every face, and the direction of pins and slots
