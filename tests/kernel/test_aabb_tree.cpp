@@ -129,6 +129,40 @@ TEST(AabbTree, FirstHitsAndBoxesEqualBruteForceFarFromTheOrigin) {
   }
 }
 
+// beyond_box's codes reject exactly the faces whose boxes miss the box: random boxes, and boxes whose
+// sides pass through the mesh's vertices (a face touching the box by a corner, an edge or a side meets it).
+TEST(MeshBoxes, BeyondBoxRejectsExactlyTheFacesWhoseBoxesMissTheBox) {
+  const TriangleMesh flat = make_grid_patch(10, 0.0, 5.0, 0.0, 5.0, [](double u, double v) { return Vec3(u, v, 1.0); });
+  std::vector<TriangleMesh> all = meshes();
+  all.push_back(flat);
+  for (const TriangleMesh& mesh : all) {
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<Index> vertex(0, mesh.vertex_count() - 1);
+    const std::vector<Vec3> probe = probes(mesh, 60, 5);
+    std::vector<BoundingBox> boxes;
+    for (std::size_t i = 0; i + 1 < probe.size(); i += 2) {
+      BoundingBox b;
+      b.extend(probe[i]);
+      b.extend(probe[i + 1]);
+      boxes.push_back(b);
+      BoundingBox on; // corners on two vertices: sides through them
+      on.extend(mesh.positions[vertex(rng)]);
+      on.extend(mesh.positions[vertex(rng)]);
+      boxes.push_back(on);
+    }
+    BoundingBox flat_side; // one vertex's coordinates: a degenerate box
+    flat_side.extend(mesh.positions[vertex(rng)]);
+    boxes.push_back(flat_side);
+    for (const BoundingBox& box : boxes) {
+      const std::vector<std::uint8_t> code = beyond_box(mesh, box);
+      for (Index f = 0; f < mesh.face_count(); ++f) {
+        const Triangle& t = mesh.triangles[f];
+        EXPECT_EQ((code[t[0]] & code[t[1]] & code[t[2]]) == 0, triangle_box(mesh, f).overlaps(box)) << "face " << f;
+      }
+    }
+  }
+}
+
 TEST(AabbTree, OverlappingPairsHoldEveryPairOfTouchingBoxes) {
   for (const TriangleMesh& mesh : meshes()) {
     const AabbTree tree(mesh);

@@ -83,16 +83,7 @@ std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<Orient
   }
   const double margin = 1e-9 * (size + all.max.cwiseAbs().maxCoeff() + all.min.cwiseAbs().maxCoeff());
   all = all.inflated(margin);
-  // Per vertex, the sides of `all` it lies beyond (bit 2k below it on axis k, bit 2k + 1 above): a
-  // face's box misses `all` exactly when its three corners lie beyond one same side.
-  std::vector<std::uint8_t> beyond(mesh.vertex_count());
-  for (Index v = 0; v < mesh.vertex_count(); ++v) {
-    const Vec3& p = mesh.positions[v];
-    unsigned code = 0;
-    for (int k = 0; k < 3; ++k)
-      code |= (p[k] < all.min[k] ? 1u : 0u) << (2 * k) | (p[k] > all.max[k] ? 2u : 0u) << (2 * k);
-    beyond[v] = static_cast<std::uint8_t>(code);
-  }
+  const std::vector<std::uint8_t> beyond = beyond_box(mesh, all);
   std::vector<Index> out;
   for (Index f = 0; f < mesh.face_count(); ++f) {
     const Triangle& t = mesh.triangles[f];

@@ -53,6 +53,18 @@ std::vector<Vec3> vertex_normals(const TriangleMesh& mesh) {
   return normals;
 }
 
+std::vector<std::uint8_t> beyond_box(const TriangleMesh& mesh, const BoundingBox& box) {
+  std::vector<std::uint8_t> code(mesh.vertex_count());
+  for (Index v = 0; v < mesh.vertex_count(); ++v) {
+    const Vec3& p = mesh.positions[v];
+    unsigned c = 0;
+    for (int k = 0; k < 3; ++k)
+      c |= (p[k] < box.min[k] ? 1u : 0u) << (2 * k) | (p[k] > box.max[k] ? 2u : 0u) << (2 * k);
+    code[v] = static_cast<std::uint8_t>(c);
+  }
+  return code;
+}
+
 TriangleMesh submesh(const TriangleMesh& mesh, const std::vector<Index>& faces, std::vector<Index>* vertex_map) {
   TriangleMesh out;
   std::vector<Index> inverse;

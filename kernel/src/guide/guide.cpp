@@ -75,9 +75,12 @@ std::vector<std::vector<Index>> faces_around(const TriangleMesh& mesh, const std
     all.extend(reaches.back().box);
   }
   std::vector<std::vector<Index>> faces(tubes.size());
+  if (!all.valid()) return faces;
+  const std::vector<std::uint8_t> beyond = beyond_box(mesh, all);
   for (Index f = 0; f < mesh.face_count(); ++f) {
+    const Triangle& t = mesh.triangles[f];
+    if (beyond[t[0]] & beyond[t[1]] & beyond[t[2]]) continue;
     const BoundingBox fb = triangle_box(mesh, f);
-    if (!fb.overlaps(all)) continue;
     const Vec3 c = fb.center();
     const double half = 0.5 * fb.size().norm();
     for (std::size_t i = 0; i < reaches.size(); ++i) {
