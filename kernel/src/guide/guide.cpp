@@ -291,19 +291,26 @@ void check_bore_line(const TubeSpec& tube, double top, const AabbTree& bone) {
 // left with no sleeve face joined to the template is a conflict named by the tube.
 void drop_unjoined(TriangleMesh& mesh, std::vector<std::uint8_t>& from_tube, const std::vector<TubeSpec>& tubes,
                    const std::vector<TubePlacement>& placements) {
+  // The sleeve faces joined through each other; such a set is joined to the template when one of its
+  // corners is a template face's (then so is its whole part), else it is a part of its own.
   UnionFind sets(mesh.vertex_count());
-  for (const Triangle& t : mesh.triangles) {
-    sets.join(t[0], t[1]);
-    sets.join(t[1], t[2]);
-  }
   std::vector<std::uint8_t> joined(mesh.vertex_count(), 0);
-  for (Index f = 0; f < mesh.face_count(); ++f)
-    if (!from_tube[f]) joined[sets.find(mesh.triangles[f][0])] = 1;
-  std::vector<Index> kept;
-  std::optional<Vec3> dropped;
   for (Index f = 0; f < mesh.face_count(); ++f) {
-    if (joined[sets.find(mesh.triangles[f][0])]) kept.push_back(f);
-    else if (!dropped) dropped = mesh.positions[mesh.triangles[f][0]];
+    const Triangle& t = mesh.triangles[f];
+    if (from_tube[f]) {
+      sets.join(t[0], t[1]);
+      sets.join(t[1], t[2]);
+    } else {
+      joined[t[0]] = joined[t[1]] = joined[t[2]] = 1;
+    }
+  }
+  for (Index v = 0; v < mesh.vertex_count(); ++v)
+    if (joined[v]) joined[sets.find(v)] = 1;
+  std::vector<Index> kept;
+  bool dropped = false;
+  for (Index f = 0; f < mesh.face_count(); ++f) {
+    if (!from_tube[f] || joined[sets.find(mesh.triangles[f][0])]) kept.push_back(f);
+    else dropped = true;
   }
   if (!dropped) return;
   std::vector<std::uint8_t> tube_faces;
