@@ -429,9 +429,11 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
     throw InvalidInput("chordal tolerance: must be in (0, 1) mm, got " + detail::number(options.chordal_tolerance));
   if (inner_faces > shell.face_count()) throw InvalidInput("inner faces: more than the shell has");
   GuideResult result;
-  result.mesh = shell;
   result.from_tube.assign(shell.face_count(), 0);
-  if (tubes.empty() && slots.empty() && parts.labels.empty()) return result;
+  if (tubes.empty() && slots.empty() && parts.labels.empty()) {
+    result.mesh = shell;
+    return result;
+  }
   for (const TubeSpec& t : tubes) check_tube(t);
   for (const LabelSpec& l : parts.labels) check_label(l);
 
@@ -485,19 +487,20 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
       all.extend(boxes.back());
     }
     // The bone's faces whose boxes meet a part's, in the order of the bone's faces: from the whole
-    // bone's tree when there is one (its boxes hold the faces' boxes, so it passes all of them, and
-    // each is then tested as without it), else in one pass over every face.
+    // bone's tree when there is one, part by part (its boxes hold the faces' boxes, so it passes all
+    // of them, and each is then tested as without it), else in one pass over every face.
     auto near_a_part = [&](Index f) {
       const BoundingBox fb = triangle_box(bone, f);
       return fb.overlaps(all) &&
              std::any_of(boxes.begin(), boxes.end(), [&](const BoundingBox& b) { return fb.overlaps(b); });
     };
     if (options.bone_tree) {
-      if (all.valid())
-        options.bone_tree->for_each_in_box(all, [&](Index f) {
-          if (near_a_part(f)) bone_near.push_back(f);
+      for (const BoundingBox& b : boxes)
+        options.bone_tree->for_each_in_box(b, [&](Index f) {
+          if (triangle_box(bone, f).overlaps(b)) bone_near.push_back(f);
         });
       std::sort(bone_near.begin(), bone_near.end());
+      bone_near.erase(std::unique(bone_near.begin(), bone_near.end()), bone_near.end());
     } else {
       for (Index f = 0; f < bone.face_count(); ++f)
         if (near_a_part(f)) bone_near.push_back(f);
@@ -543,11 +546,13 @@ GuideResult build_guide(const TriangleMesh& shell, std::size_t inner_faces, cons
     o.check_result = options.check_booleans;
     o.seat.assign(shell.face_count(), 0);
     std::fill(o.seat.begin(), o.seat.begin() + static_cast<std::ptrdiff_t>(inner_faces), 1);
-    BooleanResult merged = mesh_boolean(result.mesh, columns, BooleanOp::Union, o);
+    BooleanResult merged = mesh_boolean(shell, columns, BooleanOp::Union, o);
     note(merged);
     result.mesh = std::move(merged.mesh);
     result.from_tube = std::move(merged.from_b);
     drop_unjoined(result.mesh, result.from_tube, tubes, result.tubes);
+  } else {
+    result.mesh = shell; // the shell as it is, for the cuts
   }
   result.union_seconds = seconds_since(t0);
   result.columns = std::move(columns);
