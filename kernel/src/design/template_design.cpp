@@ -380,8 +380,9 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
         continue;
       }
       // Checked, the Booleans leave the faces they make to the guide's check, which covers them; when
-      // it fails, or a Boolean throws, the guide is built again with the Booleans' own checks, which
-      // perturb a degenerate contact away: the guide is then the one those checks give.
+      // it fails, a Boolean throws (a conflict found before them is found again: an error costs a second
+      // build) or a part was dropped after them (the check does not see it), the guide is built again
+      // with the Booleans' own checks, which perturb a degenerate contact away.
       std::optional<GeometryError> failure;
       for (guide_options.check_booleans = !options.check;; guide_options.check_booleans = true) {
         failure.reset();
@@ -390,6 +391,10 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
                               guide_options);
           result.times.boolean += guide->seconds;
           result.times.validation += guide->blade_path_seconds;
+          if (guide->unchecked_part_dropped) {
+            guide.reset();
+            continue; // built again with the checks
+          }
           analyse_guide_beside(guide->mesh);
           if (!options.check || check(guide->mesh, true)) return true;
           failure.emplace("the guide with its tubes failed its check: " + result.solid.summary());
@@ -397,7 +402,9 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
           failure = e;
         }
         if (guide_options.check_booleans) break;
-        analysing_guide.reset(); // it reads the guide
+        analysing_guide.reset(); // it reads the guide and its tree
+        candidate_tree.reset();
+        candidate_tree_built = {};
         guide.reset();
       }
       if (!options.check || check(shell)) throw *failure; // the parts' doing, not the shell's

@@ -42,8 +42,8 @@ struct GuideOptions {
   bool check_blade_paths = true;
   /// The Booleans with the template check the faces they make near their curves (check_result). False
   /// when the caller checks the finished guide with check_solid, which covers those faces, and builds it
-  /// again with this on when that check fails or this throws a GeometryError (then a degenerate
-  /// contact is perturbed away as before, and the guide is the one it would have been).
+  /// again with this on when that check fails, this throws a GeometryError or the result says a part
+  /// was dropped (unchecked_part_dropped): then a degenerate contact is perturbed away as before.
   bool check_booleans = true;
   /// AabbTree(bone), the tree over all of the bone's faces, when the caller has one (the design's),
   /// built on this very mesh object (refused otherwise), its coordinates finite: the bone under the
@@ -140,8 +140,11 @@ struct GuideResult {
   double max_perturbation = 0.0;            ///< the largest such displacement, mm (surfaces may move this much)
   double curve_tolerance = 0.0;             ///< how far the intersection curves may have moved, mm (boolean.h)
   std::size_t fragments_dropped = 0;        ///< slivers of template the bores cut off the guide (dropped)
-  TriangleMesh columns;                     ///< the sleeve columns united (second operand of the union)
-  TriangleMesh bores;                       ///< the bores united (second operand of the difference)
+  /// With check_booleans false: a part was dropped after a Boolean that left the faces near its curve
+  /// unchecked. A check of the guide does not see what was dropped: build it again with the checks.
+  bool unchecked_part_dropped = false;
+  TriangleMesh columns; ///< the sleeve columns united (second operand of the union)
+  TriangleMesh bores;   ///< the bores united (second operand of the difference)
 };
 
 /// Merges `tubes` into the closed template `shell` whose first `inner_faces` faces are its inner
