@@ -83,11 +83,9 @@ std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<Orient
   }
   const double margin = 1e-9 * (size + all.max.cwiseAbs().maxCoeff() + all.min.cwiseAbs().maxCoeff());
   all = all.inflated(margin);
-  const std::vector<std::uint8_t> beyond = beyond_box(mesh, all);
   std::vector<Index> out;
-  for (Index f = 0; f < mesh.face_count(); ++f) {
+  for (Index f : faces_meeting_box(mesh, all)) {
     const Triangle& t = mesh.triangles[f];
-    if (beyond[t[0]] & beyond[t[1]] & beyond[t[2]]) continue;
     const BoundingBox box = triangle_box(mesh, f);
     const std::array<Vec3, 3> corners = {mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]};
     for (const OrientedBox& b : boxes)

@@ -53,16 +53,22 @@ std::vector<Vec3> vertex_normals(const TriangleMesh& mesh) {
   return normals;
 }
 
-std::vector<std::uint8_t> beyond_box(const TriangleMesh& mesh, const BoundingBox& box) {
-  std::vector<std::uint8_t> code(mesh.vertex_count());
+std::vector<Index> faces_meeting_box(const TriangleMesh& mesh, const BoundingBox& box) {
+  std::vector<Index> faces;
+  if (!box.valid()) return faces;
+  std::vector<std::uint8_t> beyond(mesh.vertex_count());
   for (Index v = 0; v < mesh.vertex_count(); ++v) {
     const Vec3& p = mesh.positions[v];
     unsigned c = 0;
     for (int k = 0; k < 3; ++k)
       c |= (p[k] < box.min[k] ? 1u : 0u) << (2 * k) | (p[k] > box.max[k] ? 2u : 0u) << (2 * k);
-    code[v] = static_cast<std::uint8_t>(c);
+    beyond[v] = static_cast<std::uint8_t>(c);
   }
-  return code;
+  for (Index f = 0; f < mesh.face_count(); ++f) {
+    const Triangle& t = mesh.triangles[f];
+    if (!(beyond[t[0]] & beyond[t[1]] & beyond[t[2]])) faces.push_back(f);
+  }
+  return faces;
 }
 
 TriangleMesh submesh(const TriangleMesh& mesh, const std::vector<Index>& faces, std::vector<Index>* vertex_map) {

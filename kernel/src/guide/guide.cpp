@@ -18,7 +18,6 @@
 #include "st/guide/inspect.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <cstdlib>
 #include <array>
 #include <limits>
@@ -76,11 +75,7 @@ std::vector<std::vector<Index>> faces_around(const TriangleMesh& mesh, const std
     all.extend(reaches.back().box);
   }
   std::vector<std::vector<Index>> faces(tubes.size());
-  if (!all.valid()) return faces;
-  const std::vector<std::uint8_t> beyond = beyond_box(mesh, all);
-  for (Index f = 0; f < mesh.face_count(); ++f) {
-    const Triangle& t = mesh.triangles[f];
-    if (beyond[t[0]] & beyond[t[1]] & beyond[t[2]]) continue;
+  for (Index f : faces_meeting_box(mesh, all)) {
     const BoundingBox fb = triangle_box(mesh, f);
     const Vec3 c = fb.center();
     const double half = 0.5 * fb.size().norm();

@@ -243,12 +243,7 @@ LaidLabel lay_label(const LabelSpec& label, const TriangleMesh& shell, std::size
   // The shell's faces (all, and the inner ones) whose boxes meet `box`.
   auto faces_in = [&](const BoundingBox& box) {
     std::pair<std::vector<Index>, std::vector<Index>> found;
-    if (!box.valid()) return found;
-    const std::vector<std::uint8_t> beyond = beyond_box(shell, box);
-    for (Index f = 0; f < shell.face_count(); ++f) {
-      const Triangle& t = shell.triangles[f];
-      if (!(beyond[t[0]] & beyond[t[1]] & beyond[t[2]])) (f < inner_faces ? found.second : found.first).push_back(f);
-    }
+    for (Index f : faces_meeting_box(shell, box)) (f < inner_faces ? found.second : found.first).push_back(f);
     found.first.insert(found.first.end(), found.second.begin(), found.second.end());
     return found;
   };

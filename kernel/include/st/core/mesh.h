@@ -57,10 +57,11 @@ struct BoundingBox {
 /// Bounding box of all positions (also the unused ones).
 BoundingBox bounding_box(const TriangleMesh& mesh);
 
-/// Per vertex, the sides of `box` it lies beyond: bit 2k below box.min[k], bit 2k + 1 above box.max[k].
-/// A face's box misses `box` exactly when the codes of its three corners share a bit, which a pass over
-/// the faces tells from three bytes each (the faces near a part of a large mesh).
-std::vector<std::uint8_t> beyond_box(const TriangleMesh& mesh, const BoundingBox& box);
+/// The faces whose boxes meet `box` (sides included), ascending; none when `box` is empty. Each vertex
+/// gets the sides of `box` it lies beyond (bit 2k below box.min[k], bit 2k + 1 above box.max[k]); a face's
+/// box misses `box` exactly when its three corners' codes share a bit, so a pass over the faces reads three
+/// bytes each (the faces near a part of a large mesh).
+std::vector<Index> faces_meeting_box(const TriangleMesh& mesh, const BoundingBox& box);
 
 /// Bounding box of the three corners of triangle `f`.
 inline BoundingBox triangle_box(const TriangleMesh& mesh, Index f) {
