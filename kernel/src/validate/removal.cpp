@@ -6,6 +6,7 @@
 #include "st/core/predicates.h"
 #include "st/core/ray_triangle.h"
 #include "st/boolean/triangle_intersection.h"
+#include "sweep_columns.h"
 
 #include <algorithm>
 #include <array>
@@ -148,21 +149,33 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
   }
   auto bone_corner = [&](Index f, int k) -> const Vec3& { return shrunk(bmesh.triangles[f][k]); };
 
-  // Box culling: a guide face whose box, swept by L off the bone and grown by the lifts, meets no
-  // bone triangle's box cannot meet the bone on the way off, nor can its corners and edges (their
-  // paths lie in that box; an edge's in the swept box of each of its two faces). Only the corners and
-  // edges of the faces that pass are tested exactly, and only bone faces whose boxes, swept by L
-  // towards the guide, meet a guide triangle's box give bone vertices to test.
+  // Box culling, in the frame of the way off (sweep_columns.h): a guide face whose box, swept by L off
+  // the bone and grown by the lifts, meets no box of a bone face cannot meet the bone on the way off,
+  // nor can its corners and edges (their paths lie in that box; an edge's in the swept box of each of
+  // its two faces). Only the corners and edges of the faces that pass are tested exactly, and only bone
+  // faces whose boxes, swept by L towards the guide, meet a guide face's box give bone vertices to
+  // test. The bone's faces that can meet the guide at all are those in the box it sweeps (grown); the
+  // guide's vertex paths read them by their columns along the way.
   const double pad = 4.0 * lift;
   auto swept = [&](BoundingBox b, const Vec3& by) {
     b.extend(b.min + by);
     b.extend(b.max + by);
     return b.inflated(pad);
   };
+  BoundingBox reach = gbox;
+  reach.extend(gbox.min + L * w);
+  reach.extend(gbox.max + L * w);
+  std::vector<Index> near_faces;
+  bone.for_each_in_box(reach.inflated(1.0 + pad), [&](Index f) { near_faces.push_back(f); });
+  validate_detail::SweepColumns bone_columns(w);
+  bone_columns.build(bmesh, &near_faces, pad);
   std::vector<std::uint8_t> near_guide(guide.face_count(), 0);
   detail::parallel_for(guide.face_count(), 1024, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t f = begin; f < end; ++f)
-      near_guide[f] = bone.any_in_box(swept(triangle_box(guide, static_cast<Index>(f)), L * w)) ? 1 : 0;
+    for (std::size_t f = begin; f < end; ++f) {
+      validate_detail::FrameBox b = bone_columns.box_of(guide, static_cast<Index>(f));
+      b.hi[2] += L;
+      near_guide[f] = bone_columns.any_in(b) ? 1 : 0;
+    }
   });
   std::vector<Index> first_face(guide.vertex_count(), kInvalidIndex);
   for (Index f = 0; f < guide.face_count(); ++f)
@@ -175,7 +188,8 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
     for (std::size_t i = begin; i < end; ++i) {
       if (first_face[i] == kInvalidIndex) continue;
       const Vec3 &p = g_at[i], q = p + L * w;
-      const bool hit = bone.any_along(p, w, L, 2.0 * lift, [&](Index f) {
+      const Vec3 at = bone_columns.frame(p);
+      const bool hit = bone_columns.any_along(at[0], at[1], at[2], at[2] + L, [&](Index f) {
         return crosses(p, q, bone_corner(f, 0), bone_corner(f, 1), bone_corner(f, 2));
       });
       if (hit) collector.add({guide.positions[i], first_face[i]});
@@ -184,13 +198,6 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
   // 2. Bone vertices near the guide along +d against the guide.
   std::optional<AabbTree> own_tree;
   const AabbTree& guide_tree = guide_tree_given ? *guide_tree_given : own_tree.emplace(guide);
-  BoundingBox reach = gbox;
-  reach.extend(gbox.min - L * d);
-  reach.extend(gbox.max - L * d);
-  std::vector<Index> near_faces;
-  reach.min.array() -= 1.0;
-  reach.max.array() += 1.0;
-  bone.for_each_in_box(reach, [&](Index f) { near_faces.push_back(f); });
   // A bone vertex the guide copies (zero clearance, a rim through a bone vertex) touches the guide
   // there; the faces and edges around it are tested by the other two families. The guide's vertices,
   // in a table by a hash of their coordinates' bits (equal hashes compared exactly), tell those apart

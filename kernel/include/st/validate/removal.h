@@ -23,7 +23,10 @@
 // Boxes cull before the tests: only the corners and edges of guide faces whose box, swept by L off
 // the bone (and grown by the lifts), meets a bone triangle's box; only bone vertices of faces whose box,
 // swept by L towards the guide, meets a guide triangle's box; and a bone edge only when its box meets
-// the box of the parallelogram. A culled feature's path lies outside every box it could meet.
+// the box of the parallelogram. A culled feature's path lies outside every box it could meet. The
+// guide's faces and vertex paths read the bone's boxes in the frame of the way off, from a grid of
+// columns along it over the bone's faces in the box the guide sweeps: a path is then a point of the
+// plane across the way, and the bone's faces it can cross are those of one cell.
 // A segment crosses a triangle when its ends lie strictly on either side of the triangle's plane
 // (orient3d, not zero) and the line meets the closed triangle (three orient3d of one sign).
 // Contact is not blocking: the bone is first shrunk by a lift along its vertex normals (1 um, or
