@@ -378,16 +378,14 @@ bool AabbTree::apart_by_planes(Index a, Index b, double margin) const {
   return off(pa, pb) || off(pb, pa);
 }
 
-template <class Visit> void AabbTree::self_pairs(Index a, Index b, Visit& visit,
-                                                 const std::function<bool(Index, Index)>* apart,
-                                                 double plane_margin) const {
-  if (apart && a == b && nodes_[a].end - nodes_[a].begin <= kMaxApart && (*apart)(nodes_[a].begin, nodes_[a].end))
-    return;
+template <class Visit>
+void AabbTree::self_pairs(Index a, Index b, Visit& visit, const Apart* apart, double plane_margin) const {
   std::array<std::pair<Index, Index>, 3> children;
   const int count = split_pair(a, b, children);
   if (count < 0) return;
   const Node& na = nodes_[a];
   const Node& nb = nodes_[b];
+  if (apart && (*apart)(na.begin, na.end, nb.begin, nb.end)) return;
   if (count == 0) { // two leaves
     for (Index i = na.begin; i < na.end; ++i)
       for (Index j = (a == b ? i + 1 : nb.begin); j < nb.end; ++j)
@@ -412,9 +410,9 @@ std::vector<std::pair<Index, Index>> AabbTree::overlapping_pairs(const std::func
 }
 
 std::vector<std::pair<Index, Index>> AabbTree::overlapping_pairs(const std::function<bool(Index, Index)>& keep,
-                                                                 const std::function<bool(Index, Index)>& apart) const {
+                                                                 const Apart& apart) const {
   if (nodes_.empty()) return {};
-  const std::function<bool(Index, Index)>* const passing = apart ? &apart : nullptr;
+  const Apart* const passing = apart ? &apart : nullptr;
   const double margin = apart ? plane_margin() : 0.0;
   // The first levels of self_pairs' recursion, expanded into node pairs (tasks), then each task's
   // pairs on its own thread, gathered in task order.

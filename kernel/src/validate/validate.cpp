@@ -11,10 +11,12 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <span>
 #include <sstream>
@@ -163,7 +165,8 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
   // A closed fan that is a height field over an axis plane (star_fan) cannot cross itself.
   r.components = component_count(mesh, opp);
   const std::vector<std::uint8_t> turns = validate_detail::projection_turns(mesh);
-  std::vector<std::uint8_t> star(mesh.vertex_count(), 0);
+  // Per vertex: 1 when its fan is closed, then (asked by the pairs that share it) 2 a star, 3 not.
+  std::unique_ptr<std::atomic<std::uint8_t>[]> star(new std::atomic<std::uint8_t>[mesh.vertex_count()]);
   {
     const std::size_t vertices = mesh.vertex_count();
     std::vector<Found> chunks((vertices + kGrain - 1) / kGrain);
@@ -171,6 +174,7 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
       Found& c = chunks[begin / kGrain];
       for (Index v = static_cast<Index>(begin); v < end; ++v) {
         const auto around = topology.faces_of(v);
+        star[v].store(0, std::memory_order_relaxed);
         if (around.empty()) continue;
         std::size_t reached = 0;
         const Index f0 = around[0];
@@ -198,7 +202,7 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
           ++c.fans;
           c.note(mesh.positions[v]);
         } else if (closed_fan) {
-          star[v] = star_fan(mesh, v, around, turns) ? 1 : 0;
+          star[v].store(1, std::memory_order_relaxed);
         }
       }
     });
@@ -214,7 +218,18 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
     // Nodes of the tree whose faces form a patch that projects one to one onto an axis plane are
     // passed over whole (embedded_patch.h): their faces meet only where they share corners or edges.
     const validate_detail::Patches patches(mesh, opp, turns, tree.ordered_faces());
-    const auto apart = [&](Index begin, Index end) { return patches.embedded(begin, end); };
+    const auto apart = [&](Index a_begin, Index a_end, Index b_begin, Index b_end) {
+      return patches.apart(a_begin, a_end, b_begin, b_end);
+    };
+    // Whether u's fan is a star, found when a pair first asks (most pairs are passed over whole).
+    auto is_star = [&](Index u) {
+      std::uint8_t known = star[u].load(std::memory_order_relaxed);
+      if (known == 1) {
+        known = star_fan(mesh, u, topology.faces_of(u), turns) ? 2 : 3;
+        star[u].store(known, std::memory_order_relaxed);
+      }
+      return known == 2;
+    };
     const std::vector<std::pair<Index, Index>> crossing = tree.overlapping_pairs(
         [&](Index a, Index b) {
           const Triangle& ta = mesh.triangles[a];
@@ -226,7 +241,7 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
           for (const Index u : ta)
             if (u == tb[0] || u == tb[1] || u == tb[2]) {
               ++shared;
-              at_star = at_star || star[u];
+              at_star = at_star || is_star(u);
             }
           if (at_star && shared < 3) return false;
           const std::array<Vec3, 3> pa{mesh.positions[ta[0]], mesh.positions[ta[1]], mesh.positions[ta[2]]};

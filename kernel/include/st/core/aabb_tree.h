@@ -119,17 +119,19 @@ public:
   [[nodiscard]] std::vector<std::pair<Index, Index>>
   overlapping_pairs(const std::function<bool(Index, Index)>& keep) const;
 
-  /// The same pairs, passing over those within any node for which apart(begin, end) is true: a caller
-  /// that can show that no two of the node's triangles, ordered_faces()[begin, end), meet but where
-  /// they share corners or edges. Asked from the top down for the nodes of at most kMaxApart
-  /// triangles, on the threads that find the pairs (apart must be safe to call from several); the same
-  /// pairs in the same order whatever the number of threads. Also passed over: the pairs of triangles
-  /// that cannot meet because the corners of one lie on one side of the other's plane (decided with a
-  /// margin far wider than the rounding, so never wrongly): a long sliver, whose box spans hundreds of
+  /// The same pairs, passing over those within a node, or between two nodes, for which apart(a_begin,
+  /// a_end, b_begin, b_end) is true (the same range twice for one node): a caller that can show that
+  /// no two of the nodes' triangles, ordered_faces()[a_begin, a_end) and [b_begin, b_end), meet but
+  /// where they share corners or edges. Asked from the top down for the pairs of nodes the search
+  /// reaches whose boxes overlap, on the threads that find the pairs (apart must be safe to call from
+  /// several; the first levels are split into tasks for them without asking, but for a node of at
+  /// most kMaxApart triangles alone); the same pairs in the same order whatever the number of threads. Also passed
+  /// over: the pairs of triangles that cannot meet because the corners of one lie on one side of the other's plane
+  /// (decided with a margin far wider than the rounding, so never wrongly): a long sliver, whose box spans hundreds of
   /// small triangles', reaches the caller's test only with the few its plane passes through.
-  [[nodiscard]] std::vector<std::pair<Index, Index>>
-  overlapping_pairs(const std::function<bool(Index, Index)>& keep,
-                    const std::function<bool(Index, Index)>& apart) const;
+  using Apart = std::function<bool(Index, Index, Index, Index)>;
+  [[nodiscard]] std::vector<std::pair<Index, Index>> overlapping_pairs(const std::function<bool(Index, Index)>& keep,
+                                                                       const Apart& apart) const;
   static constexpr Index kMaxApart = 8192;
 
   /// The triangles in the tree's order: a node's are a range of it.
@@ -209,13 +211,12 @@ private:
   /// leaves (their triangles are compared), else 2 or 3.
   int split_pair(Index a, Index b, std::array<std::pair<Index, Index>, 3>& into) const;
   /// Calls visit(fa, fb) for the pairs of triangles under nodes a and b whose boxes overlap, but those
-  /// within a node apart(begin, end) passes over (apart may be null). Defined in aabb_tree.cpp, used
+  /// within or between nodes apart passes over (apart may be null). Defined in aabb_tree.cpp, used
   /// there only (the visitor inlined: a self-intersection check visits a million pairs).
   /// With a `plane_margin` above 0, also passing over the pairs of triangles without a common corner
   /// that apart_by_planes tells apart.
-  template <class Visit> void self_pairs(Index a, Index b, Visit& visit,
-                                         const std::function<bool(Index, Index)>* apart = nullptr,
-                                         double plane_margin = 0.0) const;
+  template <class Visit>
+  void self_pairs(Index a, Index b, Visit& visit, const Apart* apart = nullptr, double plane_margin = 0.0) const;
   void cross_pairs(Index a, const AabbTree& other, Index b, const std::function<void(Index, Index)>& visit) const;
 
   const TriangleMesh& mesh_;
