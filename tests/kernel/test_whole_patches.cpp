@@ -8,13 +8,13 @@
 #include "helpers.h"
 
 #include "st/boolean/triangle_intersection.h"
-#include "st/core/aabb_tree.h"
 #include "st/core/topology.h"
 #include "st/validate/validate.h"
 #include "validate/embedded_patch.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -81,9 +81,9 @@ std::size_t crossing_pairs(const TriangleMesh& m) {
 
 std::size_t faces_in_whole_patches(const TriangleMesh& m) {
   const std::vector<Index> opposite = MeshTopology(m).all_opposites();
-  const std::vector<std::uint8_t> turns = validate_detail::projection_turns(m);
-  const AabbTree tree(m);
-  return validate_detail::Patches(m, opposite, turns, tree.ordered_faces()).faces_in_whole_patches();
+  const std::vector<Index> whole = validate_detail::whole_patches(m, opposite, validate_detail::projection_turns(m));
+  return static_cast<std::size_t>(
+      std::count_if(whole.begin(), whole.end(), [](Index p) { return p != kInvalidIndex; }));
 }
 
 const std::vector<std::array<double, 4>> kHoles = {{4.0, 6.0, 4.0, 6.0}, {1.0, 2.5, 7.0, 9.0}, {7.5, 9.0, 1.0, 2.0}};

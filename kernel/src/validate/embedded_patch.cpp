@@ -180,7 +180,7 @@ std::vector<std::uint8_t> projection_turns(const TriangleMesh& mesh) {
 }
 
 Patches::Patches(const TriangleMesh& mesh, const std::vector<Index>& opposite, const std::vector<std::uint8_t>& turns,
-                 std::span<const Index> order)
+                 const std::vector<Index>& whole, std::span<const Index> order)
     : mesh_(mesh), opposite_(opposite), order_(order), position_(mesh.face_count(), kInvalidIndex),
       runs_(order.size() + 1) {
   const Index n = static_cast<Index>(order.size());
@@ -188,11 +188,16 @@ Patches::Patches(const TriangleMesh& mesh, const std::vector<Index>& opposite, c
   runs_[n].fill(n);
   for (Index i = n; i-- > 0;)
     for (int b = 0; b < 6; ++b) runs_[i][b] = (turns[order[i]] >> b) & 1u ? runs_[i + 1][b] : i;
-  find_whole_patches(turns);
+  whole_.assign(n + 1, kInvalidIndex);
+  whole_run_.assign(n + 1, n);
+  for (Index i = 0; i < n; ++i) whole_[i] = whole[order[i]];
+  for (Index i = n; i-- > 0;)
+    whole_run_[i] = whole_[i] != kInvalidIndex && whole_[i + 1] == whole_[i] ? whole_run_[i + 1] : i + 1;
 }
 
-void Patches::find_whole_patches(const std::vector<std::uint8_t>& turns) {
-  const Index faces = mesh_.face_count();
+std::vector<Index> whole_patches(const TriangleMesh& mesh, const std::vector<Index>& opposite,
+                                 const std::vector<std::uint8_t>& turns) {
+  const Index faces = mesh.face_count();
   constexpr Index kNone = kInvalidIndex - 1; // reached, in no whole patch
   std::vector<Index> patch(faces, kInvalidIndex);
   std::vector<Index> members, stack;
@@ -201,7 +206,7 @@ void Patches::find_whole_patches(const std::vector<std::uint8_t>& turns) {
   // Across an edge whose faces turn by less than 60 degrees: a sheet, not around a crease onto a wall
   // over it (which the border's test would find, losing the whole sheet).
   auto gentle = [&](const Vec3& a, Index h) {
-    const Vec3 b = triangle_normal(mesh_, h);
+    const Vec3 b = triangle_normal(mesh, h);
     return a.dot(b) > 0.5 * a.norm() * b.norm();
   };
   // Seeds facing close to an axis first (within about 25 degrees), so that a sheet grows from its
@@ -209,7 +214,7 @@ void Patches::find_whole_patches(const std::vector<std::uint8_t>& turns) {
   for (int pass = 0; pass < 2; ++pass)
     for (Index seed = 0; seed < faces; ++seed) {
       if (patch[seed] != kInvalidIndex || turns[seed] == 0) continue;
-      const Vec3 n = triangle_normal(mesh_, seed);
+      const Vec3 n = triangle_normal(mesh, seed);
       int axis = 0;
       for (int k = 1; k < 3; ++k)
         if (std::abs(n[k]) > std::abs(n[axis])) axis = k;
@@ -224,9 +229,9 @@ void Patches::find_whole_patches(const std::vector<std::uint8_t>& turns) {
         const Index g = stack.back();
         stack.pop_back();
         members.push_back(g);
-        const Vec3 normal = triangle_normal(mesh_, g);
+        const Vec3 normal = triangle_normal(mesh, g);
         for (Index k = 0; k < 3; ++k) {
-          const Index o = opposite_[3 * g + k];
+          const Index o = opposite[3 * g + k];
           if (o == kInvalidIndex) continue;
           const Index h = o / 3;
           if (patch[h] == kInvalidIndex && ((turns[h] >> bit) & 1u) && gentle(normal, h)) {
@@ -237,29 +242,22 @@ void Patches::find_whole_patches(const std::vector<std::uint8_t>& turns) {
       }
       border.clear();
       for (const Index g : members) {
-        const Triangle& t = mesh_.triangles[g];
+        const Triangle& t = mesh.triangles[g];
         for (Index k = 0; k < 3; ++k) {
-          const Index o = opposite_[3 * g + k];
+          const Index o = opposite[3 * g + k];
           if (o == kInvalidIndex || patch[o / 3] != id) border.emplace_back(t[k], t[(k + 1) % 3]);
         }
       }
-      const bool whole = members.size() >= kMinWhole && one_sheet(mesh_, border, bit);
+      const bool whole = members.size() >= kMinWhole && one_sheet(mesh, border, bit);
       if (std::getenv("XPP") && members.size() >= kMinWhole)
         std::fprintf(stderr, "patch seed %u bit %d faces %zu border %zu whole %d\n", seed, bit, members.size(),
                      border.size(), (int)whole);
       for (const Index g : members) patch[g] = whole ? id : kNone;
-      if (whole) {
-        ++patches;
-        in_whole_ += members.size();
-      }
+      if (whole) ++patches;
     }
-  const Index n = static_cast<Index>(order_.size());
-  whole_.assign(n + 1, kInvalidIndex);
-  whole_run_.assign(n + 1, n);
-  for (Index i = 0; i < n; ++i)
-    if (const Index p = patch[order_[i]]; p < patches) whole_[i] = p;
-  for (Index i = n; i-- > 0;)
-    whole_run_[i] = whole_[i] != kInvalidIndex && whole_[i + 1] == whole_[i] ? whole_run_[i + 1] : i + 1;
+  for (Index& p : patch)
+    if (p == kNone) p = kInvalidIndex;
+  return patch;
 }
 
 bool Patches::apart(Index a_begin, Index a_end, Index b_begin, Index b_end) const {

@@ -27,17 +27,24 @@ namespace st::validate_detail {
 /// A face that projects to a segment along every axis, or with a corner that is not finite, has none.
 std::vector<std::uint8_t> projection_turns(const TriangleMesh& mesh);
 
+/// Whole patches: from each face not yet in one, the faces reached across partnered edges whose faces
+/// turn by less than 60 degrees and that turn the way it turns most (along the axis of its normal's
+/// largest coordinate; seeds within about 25 degrees of an axis first), kept when their border is as
+/// described above (a smooth surface's sheets around their holes, the halves of a tube). Per face, its
+/// patch (kInvalidIndex for none). `opposite` and `turns` as for Patches.
+std::vector<Index> whole_patches(const TriangleMesh& mesh, const std::vector<Index>& opposite,
+                                 const std::vector<std::uint8_t>& turns);
+
 /// The patches of a mesh that are ranges of `order` (the faces of a tree, in its order), for
-/// check_solid to ask about its tree's nodes and pairs of nodes. Whole patches first: from each face
-/// not yet in one, the faces reached across partnered edges that turn the way it turns most (along the
-/// axis of its normal's largest coordinate), kept when their border is one loop projecting to a
-/// simple polygon (a smooth surface's sheets, the halves of a tube); then a node's own faces.
+/// check_solid to ask about its tree's nodes and pairs of nodes: within one whole patch, or a node's
+/// own faces.
 class Patches {
 public:
   /// `opposite`: per half-edge 3f+k, its partner (kInvalidIndex for none); `turns`:
-  /// projection_turns(mesh). Keeps references to all four.
+  /// projection_turns(mesh); `whole`: whole_patches(mesh, opposite, turns). Keeps references to the
+  /// mesh, `opposite` and `order`.
   Patches(const TriangleMesh& mesh, const std::vector<Index>& opposite, const std::vector<std::uint8_t>& turns,
-          std::span<const Index> order);
+          const std::vector<Index>& whole, std::span<const Index> order);
 
   /// Whether no two of the faces order[a_begin, a_end) and order[b_begin, b_end) (or, for the same
   /// range twice, of its faces) meet but where they share a corner or an edge: all of them in one
@@ -45,13 +52,9 @@ public:
   [[nodiscard]] bool apart(Index a_begin, Index a_end, Index b_begin, Index b_end) const;
   static constexpr Index kMaxLocal = 8192;
 
-  /// Faces in whole patches (for tests and measurements).
-  [[nodiscard]] std::size_t faces_in_whole_patches() const { return in_whole_; }
-
 private:
   /// Whether the faces order[begin, end) form a patch as described above.
   [[nodiscard]] bool embedded(Index begin, Index end) const;
-  void find_whole_patches(const std::vector<std::uint8_t>& turns);
 
   const TriangleMesh& mesh_;
   const std::vector<Index>& opposite_;
@@ -63,7 +66,6 @@ private:
   // Per place i in order, the whole patch of its face (kInvalidIndex for none), and the first place
   // at or after i whose face is in another or none.
   std::vector<Index> whole_, whole_run_;
-  std::size_t in_whole_ = 0;
 };
 
 } // namespace st::validate_detail

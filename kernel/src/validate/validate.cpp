@@ -210,6 +210,8 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
   }
 
   if (options.check_self_intersections && r.degenerate_triangles == 0) {
+    // Whole patches (embedded_patch.h) before the tree, which may still be in the making beside.
+    const std::vector<Index> whole = validate_detail::whole_patches(mesh, opp, turns);
     // The exact tests run on the threads that find the pairs (overlapping boxes) in the tree.
     std::optional<AabbTree> own_tree;
     const AabbTree& tree = options.tree          ? *options.tree
@@ -217,7 +219,7 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
                                                  : own_tree.emplace(mesh);
     // Nodes of the tree whose faces form a patch that projects one to one onto an axis plane are
     // passed over whole (embedded_patch.h): their faces meet only where they share corners or edges.
-    const validate_detail::Patches patches(mesh, opp, turns, tree.ordered_faces());
+    const validate_detail::Patches patches(mesh, opp, turns, whole, tree.ordered_faces());
     const auto apart = [&](Index a_begin, Index a_end, Index b_begin, Index b_end) {
       return patches.apart(a_begin, a_end, b_begin, b_end);
     };
