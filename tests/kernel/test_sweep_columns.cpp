@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 #include <utility>
@@ -102,6 +103,43 @@ TEST(SweepColumns, PassOnEveryFaceWhoseGrownBoxHoldsThePathOrMeetsTheBox) {
           if (found) EXPECT_TRUE(near_slack);
         }
       }
+  }
+}
+
+TEST(SweepColumns, FacesWithCornersBeyondFloatOrNotFiniteArePassedOnWhereverTheyMayReach) {
+  // A corner that is not a number (its faces reach everywhere), one at infinity and one beyond
+  // float's range (their boxes reach that far): every face whose box, grown, holds a path is passed
+  // on, and nothing fails.
+  for (const double odd : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(), 1e300}) {
+    TriangleMesh mesh = make_grid_patch(8, 0.0, 4.0, 0.0, 4.0, [](double u, double v) { return Vec3(u, v, 0.0); });
+    mesh.positions[10].x() = odd;
+    const double pad = 1e-3;
+    SweepColumns columns(Vec3(0.1, 0.2, 0.9).normalized());
+    columns.build(mesh, nullptr, pad);
+    for (const Vec3& p : {Vec3(1.0, 1.0, 0.0), Vec3(3.3, 0.2, 0.0), Vec3(-50.0, 7.0, 1.0), Vec3(60.0, 1.0, 0.0)}) {
+      const Vec3 at = columns.frame(p);
+      FrameBox path;
+      path.lo = Vec3(at[0], at[1], at[2] - 1.0);
+      path.hi = Vec3(at[0], at[1], at[2] + 1.0);
+      std::set<Index> visited;
+      columns.any_along(at[0], at[1], path.lo[2], path.hi[2], [&](Index f) {
+        visited.insert(f);
+        return false;
+      });
+      bool reached = false;
+      for (Index f = 0; f < mesh.face_count(); ++f) {
+        const FrameBox b = columns.box_of(mesh, f);
+        const bool nan = !(b.lo.array() == b.lo.array()).all() || !(b.hi.array() == b.hi.array()).all();
+        if (nan || meets(columns, mesh, f, path, pad)) {
+          reached = true;
+          EXPECT_TRUE(visited.count(f)) << "face " << f << " with a corner at " << odd;
+        }
+      }
+      if (reached) EXPECT_TRUE(columns.any_in(path));
+    }
+    FrameBox not_a_box;
+    not_a_box.lo = not_a_box.hi = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+    EXPECT_FALSE(columns.any_in(not_a_box));
   }
 }
 

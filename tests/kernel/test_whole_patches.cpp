@@ -118,5 +118,23 @@ TEST(WholePatches, AStripFromAHoleDownThroughTheSheetIsCountedAsEveryPairCountsI
   }
 }
 
+TEST(WholePatches, TwoWholePatchesThatCrossAreTestedAgainstEachOther) {
+  // The holed sheet and a separate plate tilted through it (not joined): each a whole patch, the
+  // pairs between them tested.
+  const TriangleMesh sheet = holed_sheet([](double, double) { return 0.0; }, kHoles, nullptr);
+  const TriangleMesh plate = test::make_grid_patch(
+      8, 6.5, 9.5, 5.0, 8.0, [](double u, double v) { return Vec3(u, v, 0.5 * (u - 8.0) + 0.125); });
+  TriangleMesh both = sheet;
+  const Index n = both.vertex_count();
+  both.positions.insert(both.positions.end(), plate.positions.begin(), plate.positions.end());
+  for (const Triangle& t : plate.triangles) both.triangles.push_back({t[0] + n, t[1] + n, t[2] + n});
+  EXPECT_EQ(faces_in_whole_patches(both), both.face_count());
+  SolidOptions all;
+  all.max_reported = std::numeric_limits<std::size_t>::max();
+  const std::size_t expected = crossing_pairs(both);
+  EXPECT_GT(expected, 0u);
+  EXPECT_EQ(check_solid(both, all).self_intersections, expected);
+}
+
 } // namespace
 } // namespace st

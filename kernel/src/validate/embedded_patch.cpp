@@ -7,8 +7,6 @@
 #include <array>
 #include <bit>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <utility>
 
 namespace st::validate_detail {
@@ -249,9 +247,6 @@ std::vector<Index> whole_patches(const TriangleMesh& mesh, const std::vector<Ind
         }
       }
       const bool whole = members.size() >= kMinWhole && one_sheet(mesh, border, bit);
-      if (std::getenv("XPP") && members.size() >= kMinWhole)
-        std::fprintf(stderr, "patch seed %u bit %d faces %zu border %zu whole %d\n", seed, bit, members.size(),
-                     border.size(), (int)whole);
       for (const Index g : members) patch[g] = whole ? id : kNone;
       if (whole) ++patches;
     }

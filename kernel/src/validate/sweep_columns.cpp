@@ -8,9 +8,18 @@ namespace st::validate_detail {
 namespace {
 
 // A float at most x (at least x): float keeps 24 bits, so x moved by 2^-22 of itself outwards first
-// rounds to one beyond x.
-float below(double x) { return static_cast<float>(x - (std::abs(x) * 0x1p-22 + 0x1p-126)); }
-float above(double x) { return static_cast<float>(x + (std::abs(x) * 0x1p-22 + 0x1p-126)); }
+// rounds to one beyond x; beyond float's range (or not a number) the infinity or the largest float
+// on the safe side.
+float below(double x) {
+  const double y = x - (std::abs(x) * 0x1p-22 + 0x1p-126);
+  if (!(y > -std::numeric_limits<float>::max())) return -std::numeric_limits<float>::infinity();
+  return y >= std::numeric_limits<float>::max() ? std::numeric_limits<float>::max() : static_cast<float>(y);
+}
+float above(double x) {
+  const double y = x + (std::abs(x) * 0x1p-22 + 0x1p-126);
+  if (!(y < std::numeric_limits<float>::max())) return std::numeric_limits<float>::infinity();
+  return y <= -std::numeric_limits<float>::max() ? -std::numeric_limits<float>::max() : static_cast<float>(y);
+}
 
 } // namespace
 
@@ -34,8 +43,10 @@ FrameBox SweepColumns::box_of(const TriangleMesh& mesh, Index f) const {
 }
 
 std::int64_t SweepColumns::column(double x, int axis) const {
-  // Truncation is the floor where it is not clamped to 0.
-  const double c = std::min(std::max((x - origin_[axis]) * per_cell_, 0.0), static_cast<double>(cells_[axis] - 1));
+  // Truncation is the floor where it is not clamped to 0 (as is a place that is not a number).
+  double c = (x - origin_[axis]) * per_cell_;
+  if (!(c > 0.0)) return 0;
+  c = std::min(c, static_cast<double>(cells_[axis] - 1));
   return static_cast<std::int64_t>(c);
 }
 
@@ -69,18 +80,28 @@ void SweepColumns::build(const TriangleMesh& mesh, const std::vector<Index>* fac
   if (n == 0) return;
   mean /= static_cast<double>(n);
   // Cells about a face's size (or finer faces spread over a larger plane): a few faces each, a face
-  // in a few cells; at most 4 cells a face.
+  // in a few cells; at most 4n + 16 cells, and fewer while the faces would be listed more than 16n
+  // times over (large faces among small ones). A plane without a finite extent is one cell.
   const double extent[2] = {end_[0] - origin_[0], end_[1] - origin_[1]};
   cell_ = std::max(mean, std::sqrt(extent[0] * extent[1] / static_cast<double>(n)));
-  if (!(cell_ > 0.0) || !std::isfinite(cell_)) cell_ = std::max({extent[0], extent[1], 1.0});
+  const bool finite = std::isfinite(extent[0]) && std::isfinite(extent[1]) && std::isfinite(cell_);
+  if (!finite || !(cell_ > 0.0)) cell_ = finite ? std::max({extent[0], extent[1], 1.0}) : 1.0;
   const double most = 4.0 * static_cast<double>(n) + 16.0;
   for (;;) {
     for (int a = 0; a < 2; ++a)
-      cells_[a] = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(extent[a] / cell_)));
-    if (static_cast<double>(cells_[0]) * static_cast<double>(cells_[1]) <= most) break;
+      cells_[a] = finite ? std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(extent[a] / cell_))) : 1;
+    per_cell_ = 1.0 / cell_;
+    if (static_cast<double>(cells_[0]) * static_cast<double>(cells_[1]) > most) {
+      cell_ *= 2.0;
+      continue;
+    }
+    double listed = 0.0;
+    for (const Entry& e : entries)
+      listed += static_cast<double>(column(e.hi[0], 0) - column(e.lo[0], 0) + 1) *
+                static_cast<double>(column(e.hi[1], 1) - column(e.lo[1], 1) + 1);
+    if (listed <= 16.0 * static_cast<double>(n) + 16.0 || (cells_[0] == 1 && cells_[1] == 1)) break;
     cell_ *= 2.0;
   }
-  per_cell_ = 1.0 / cell_;
   const std::size_t cells = cell(cells_[0] - 1, cells_[1] - 1) + 1;
   stretch_.assign(cells, Stretch{});
   auto each_cell = [&](const Entry& e, auto&& visit) {
