@@ -324,10 +324,14 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
     if (!options.check) return;
     analysing_shell.emplace([&, in = inputs()] { analyse_shell(in, options, analyses); });
   };
-  auto analyse_guide_beside = [&](const TriangleMesh& candidate) {
+  // The candidate's analysis and tree let go (the analysis first: it reads the tree).
+  auto drop_candidate = [&] {
     analysing_guide.reset();
     candidate_tree.reset();
     candidate_tree_built = {};
+  };
+  auto analyse_guide_beside = [&](const TriangleMesh& candidate) {
+    drop_candidate();
     if (!options.check || !options.analyse_insertion) return; // the check builds the tree it needs
     auto tree_built = std::make_shared<std::promise<void>>();
     candidate_tree_built = tree_built->get_future().share();
@@ -402,9 +406,7 @@ TemplateResult design_template(const TriangleMesh& bone, const TemplateOptions& 
           failure = e;
         }
         if (guide_options.check_booleans) break;
-        analysing_guide.reset(); // it reads the guide and its tree
-        candidate_tree.reset();
-        candidate_tree_built = {};
+        drop_candidate(); // it reads the guide
         guide.reset();
       }
       if (!options.check || check(shell)) throw *failure; // the parts' doing, not the shell's

@@ -103,7 +103,7 @@ int orientation(const std::vector<Point2>& loop) {
   return orient2d(loop[(m + n - 1) % n].data(), loop[m].data(), loop[(m + 1) % n].data()) > 0 ? 1 : -1;
 }
 
-// Whether faces that all turn the way of turn bit `bit` (turns() below) and have this border lie one
+// Whether faces that all turn the way of turn bit `bit` (projection_turns) and have this border lie one
 // over any point of the axis plane: the border half-edges (from, to) form loops, each corner starting
 // and ending one, that project to simple polygons apart from each other, and just right of each loop
 // (mirrored for a clockwise bit) the loops wind 0 times in sum. Over a point off the edges the faces
@@ -149,6 +149,21 @@ bool one_sheet(const TriangleMesh& mesh, std::vector<std::pair<Index, Index>>& b
     if (winding != 0) return false;
   }
   return true;
+}
+
+// The border of `faces`: their half-edges whose partner is missing or not in the patch (in(face)
+// false), as (from, to) corners.
+template <class In> void border_of(const TriangleMesh& mesh, const std::vector<Index>& opposite,
+                                   std::span<const Index> faces, In&& in,
+                                   std::vector<std::pair<Index, Index>>& border) {
+  border.clear();
+  for (const Index f : faces) {
+    const Triangle& t = mesh.triangles[f];
+    for (Index k = 0; k < 3; ++k) {
+      const Index o = opposite[3 * f + k];
+      if (o == kInvalidIndex || !in(o / 3)) border.emplace_back(t[k], t[(k + 1) % 3]);
+    }
+  }
 }
 
 /// Whole patches smaller than this are left to the nodes' own.
@@ -238,14 +253,8 @@ std::vector<Index> whole_patches(const TriangleMesh& mesh, const std::vector<Ind
           }
         }
       }
-      border.clear();
-      for (const Index g : members) {
-        const Triangle& t = mesh.triangles[g];
-        for (Index k = 0; k < 3; ++k) {
-          const Index o = opposite[3 * g + k];
-          if (o == kInvalidIndex || patch[o / 3] != id) border.emplace_back(t[k], t[(k + 1) % 3]);
-        }
-      }
+      border_of(
+          mesh, opposite, members, [&](Index h) { return patch[h] == id; }, border);
       const bool whole = members.size() >= kMinWhole && one_sheet(mesh, border, bit);
       for (const Index g : members) patch[g] = whole ? id : kNone;
       if (whole) ++patches;
@@ -267,20 +276,10 @@ bool Patches::embedded(Index begin, Index end) const {
   while (bit < 6 && runs_[begin][bit] < end) ++bit;
   if (bit == 6) return false;
 
-  // The border: half-edges whose partner is missing or outside the patch, as (from, to) corners.
   std::vector<std::pair<Index, Index>> border;
-  for (Index i = begin; i < end; ++i) {
-    const Index f = order_[i];
-    const Triangle& t = mesh_.triangles[f];
-    for (Index k = 0; k < 3; ++k) {
-      const Index o = opposite_[3 * f + k];
-      if (o != kInvalidIndex) {
-        const Index at = position_[o / 3];
-        if (at >= begin && at < end) continue;
-      }
-      border.emplace_back(t[k], t[(k + 1) % 3]);
-    }
-  }
+  border_of(
+      mesh_, opposite_, order_.subspan(begin, end - begin),
+      [&](Index f) { return position_[f] >= begin && position_[f] < end; }, border);
   return one_sheet(mesh_, border, bit);
 }
 

@@ -83,16 +83,16 @@ void SweepColumns::build(const TriangleMesh& mesh, const std::vector<Index>* fac
   // in a few cells; at most 4n + 16 cells, and fewer while the faces would be listed more than 16n
   // times over (large faces among small ones). A plane without a finite extent is one cell.
   const double extent[2] = {end_[0] - origin_[0], end_[1] - origin_[1]};
-  cell_ = std::max(mean, std::sqrt(extent[0] * extent[1] / static_cast<double>(n)));
-  const bool finite = std::isfinite(extent[0]) && std::isfinite(extent[1]) && std::isfinite(cell_);
-  if (!finite || !(cell_ > 0.0)) cell_ = finite ? std::max({extent[0], extent[1], 1.0}) : 1.0;
+  double side = std::max(mean, std::sqrt(extent[0] * extent[1] / static_cast<double>(n)));
+  const bool finite = std::isfinite(extent[0]) && std::isfinite(extent[1]) && std::isfinite(side);
+  if (!finite || !(side > 0.0)) side = finite ? std::max({extent[0], extent[1], 1.0}) : 1.0;
   const double most = 4.0 * static_cast<double>(n) + 16.0;
   for (;;) {
     for (int a = 0; a < 2; ++a)
-      cells_[a] = finite ? std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(extent[a] / cell_))) : 1;
-    per_cell_ = 1.0 / cell_;
+      cells_[a] = finite ? std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(extent[a] / side))) : 1;
+    per_cell_ = 1.0 / side;
     if (static_cast<double>(cells_[0]) * static_cast<double>(cells_[1]) > most) {
-      cell_ *= 2.0;
+      side *= 2.0;
       continue;
     }
     double listed = 0.0;
@@ -100,7 +100,7 @@ void SweepColumns::build(const TriangleMesh& mesh, const std::vector<Index>* fac
       listed += static_cast<double>(column(e.hi[0], 0) - column(e.lo[0], 0) + 1) *
                 static_cast<double>(column(e.hi[1], 1) - column(e.lo[1], 1) + 1);
     if (listed <= 16.0 * static_cast<double>(n) + 16.0 || (cells_[0] == 1 && cells_[1] == 1)) break;
-    cell_ *= 2.0;
+    side *= 2.0;
   }
   const std::size_t cells = cell(cells_[0] - 1, cells_[1] - 1) + 1;
   stretch_.assign(cells, Stretch{});

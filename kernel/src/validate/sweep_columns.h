@@ -69,7 +69,7 @@ private:
   }
 
   Vec3 u_, v_, w_;
-  double origin_[2] = {0.0, 0.0}, end_[2] = {-1.0, -1.0}, cell_ = 1.0, per_cell_ = 1.0;
+  double origin_[2] = {0.0, 0.0}, end_[2] = {-1.0, -1.0}, per_cell_ = 1.0; // 1 / a cell's side
   std::int64_t cells_[2] = {0, 0};
   std::vector<Stretch> stretch_;     // per cell
   std::vector<std::uint32_t> start_; // per cell, its first entry in listed_ (and one past the last)

@@ -217,8 +217,8 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
     const AabbTree& tree = options.tree          ? *options.tree
                            : options.tree_source ? options.tree_source()
                                                  : own_tree.emplace(mesh);
-    // Nodes of the tree whose faces form a patch that projects one to one onto an axis plane are
-    // passed over whole (embedded_patch.h): their faces meet only where they share corners or edges.
+    // Pairs of the tree's nodes within one whole patch, and nodes whose faces form a patch of their
+    // own, are passed over (embedded_patch.h): their faces meet only where they share corners or edges.
     const validate_detail::Patches patches(mesh, opp, turns, whole, tree.ordered_faces());
     const auto apart = [&](Index a_begin, Index a_end, Index b_begin, Index b_end) {
       return patches.apart(a_begin, a_end, b_begin, b_end);
