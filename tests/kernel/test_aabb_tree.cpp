@@ -17,6 +17,7 @@
 #include <limits>
 #include <random>
 #include <set>
+#include <span>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -129,7 +130,7 @@ TEST(AabbTree, FirstHitsAndBoxesEqualBruteForceFarFromTheOrigin) {
   }
 }
 
-// beyond_box's codes reject exactly the faces whose boxes miss the box: random boxes, and boxes whose
+// faces_meeting_box's codes reject exactly the faces whose boxes miss the box: random boxes, and boxes whose
 // sides pass through the mesh's vertices (a face touching the box by a corner, an edge or a side meets it).
 TEST(MeshBoxes, FacesMeetingABoxAreExactlyTheFacesWhoseBoxesMeetIt) {
   const TriangleMesh flat = make_grid_patch(10, 0.0, 5.0, 0.0, 5.0, [](double u, double v) { return Vec3(u, v, 1.0); });
@@ -159,6 +160,18 @@ TEST(MeshBoxes, FacesMeetingABoxAreExactlyTheFacesWhoseBoxesMeetIt) {
       for (Index f = 0; f < mesh.face_count(); ++f)
         if (triangle_box(mesh, f).overlaps(box)) expected.push_back(f);
       EXPECT_EQ(faces_meeting_box(mesh, box), expected);
+    }
+    // Several boxes at once (five to a pass: one pass, two, three), the empty one among them: the
+    // faces meeting any of them.
+    std::shuffle(boxes.begin(), boxes.end(), rng);
+    for (const std::size_t count : {std::size_t{2}, std::size_t{5}, std::size_t{6}, std::size_t{11}, boxes.size()}) {
+      const std::span<const BoundingBox> some(boxes.data(), std::min(count, boxes.size()));
+      std::vector<Index> expected;
+      for (Index f = 0; f < mesh.face_count(); ++f)
+        if (std::any_of(some.begin(), some.end(),
+                        [&](const BoundingBox& b) { return triangle_box(mesh, f).overlaps(b); }))
+          expected.push_back(f);
+      EXPECT_EQ(faces_meeting_boxes(mesh, some), expected) << some.size() << " boxes";
     }
   }
 }

@@ -1,4 +1,5 @@
-// Short edges at the intersection curve, collapsed after the result's coordinates are rounded.
+// Short edges at the intersection curve, collapsed after the result's coordinates are rounded, and
+// the check of the faces made or moved there (check_fresh).
 //
 // A curve point within a few hundred float ulp of a neighbour makes sliver faces whose planes turn by
 // whole degrees when their corners are rounded to float32, enough for two nearly tangent faces to
@@ -16,11 +17,14 @@
 
 #include "boolean/corefinement.h"
 
+#include "detail/format.h"
 #include "st/boolean/triangle_intersection.h"
+#include "st/core/aabb_tree.h"
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <iterator>
 #include <unordered_map>
 #include <utility>
@@ -92,28 +96,37 @@ public:
 
   std::size_t collapses() const { return collapses_; }
 
-  /// Drops the removed faces and unused vertices; the face lists follow.
+  /// Drops the removed faces and the vertices moved away, in place: the others keep their order (a
+  /// corner's id less the vertices dropped below it); the face lists follow.
   void compact(BooleanResult& r, std::vector<Index>& fresh, std::vector<Index>& unchanged) {
-    std::vector<Index> kept;
-    kept.reserve(m_.face_count());
-    for (Index f = 0; f < m_.face_count(); ++f)
-      if (!removed_[f]) kept.push_back(f);
-    std::vector<std::uint8_t> from_b;
-    std::vector<Index> source;
-    from_b.reserve(kept.size());
-    source.reserve(kept.size());
+    std::vector<Index> below(m_.vertex_count());
+    Index dropped = 0, kept_vertices = 0;
+    for (Index v = 0; v < m_.vertex_count(); ++v) {
+      below[v] = dropped;
+      if (gone_[v]) ++dropped;
+      else m_.positions[kept_vertices++] = m_.positions[v];
+    }
+    m_.positions.resize(kept_vertices);
     fresh.clear();
     unchanged.clear();
-    for (Index i = 0; i < kept.size(); ++i) {
-      const Index f = kept[i];
-      if (state_[f] == FaceState::fresh) fresh.push_back(i);
-      if (state_[f] == FaceState::unchanged) unchanged.push_back(i);
-      from_b.push_back(r.from_b[f]);
-      source.push_back(r.source_face[f]);
+    Index kept = 0;
+    for (Index f = 0; f < m_.face_count(); ++f) {
+      if (removed_[f]) continue;
+      if (state_[f] == FaceState::fresh) fresh.push_back(kept);
+      if (state_[f] == FaceState::unchanged) unchanged.push_back(kept);
+      Triangle& t = m_.triangles[kept];
+      t = m_.triangles[f];
+      for (Index& v : t) {
+        if (gone_[v]) throw Degenerate{"a face left at a collapsed vertex"};
+        v -= below[v];
+      }
+      r.from_b[kept] = r.from_b[f];
+      r.source_face[kept] = r.source_face[f];
+      ++kept;
     }
-    m_ = submesh(m_, kept);
-    r.from_b = std::move(from_b);
-    r.source_face = std::move(source);
+    m_.triangles.resize(kept);
+    r.from_b.resize(kept);
+    r.source_face.resize(kept);
   }
 
 private:
@@ -203,6 +216,43 @@ std::size_t collapse_short_edges(BooleanResult& r, const std::vector<VertexOrigi
   if (collapser.collapses() == 0) return 0;
   collapser.compact(r, fresh, unchanged);
   return collapser.collapses();
+}
+
+void check_fresh(const TriangleMesh& out, const std::vector<Index>& fresh, const std::vector<Index>& unchanged,
+                 bool debug) {
+  for (Index f : fresh) {
+    const Triangle& t = out.triangles[f];
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) throw Degenerate{"two corners rounded together"};
+    const Vec3 n = (out.positions[t[1]] - out.positions[t[0]]).cross(out.positions[t[2]] - out.positions[t[0]]);
+    if (n.squaredNorm() == 0.0) throw Degenerate{"a triangle rounded flat"};
+  }
+  if (fresh.empty()) return;
+  auto test = [&](Index f, Index g) {
+    const Triangle &ta = out.triangles[f], &tb = out.triangles[g];
+    const std::array<Vec3, 3> pa = {out.positions[ta[0]], out.positions[ta[1]], out.positions[ta[2]]};
+    const std::array<Vec3, 3> pb = {out.positions[tb[0]], out.positions[tb[1]], out.positions[tb[2]]};
+    if (mesh_triangles_intersect(ta, pa, tb, pb)) {
+      if (debug) {
+        std::fprintf(stderr, "  crossing faces %u and %u:\n", f, g);
+        for (const auto* p : {&pa, &pb})
+          std::fprintf(stderr, "    (%.9g %.9g %.9g) (%.9g %.9g %.9g) (%.9g %.9g %.9g)\n", (*p)[0].x(), (*p)[0].y(),
+                       (*p)[0].z(), (*p)[1].x(), (*p)[1].y(), (*p)[1].z(), (*p)[2].x(), (*p)[2].y(), (*p)[2].z());
+        std::fprintf(stderr, "    ids %u %u %u / %u %u %u\n", ta[0], ta[1], ta[2], tb[0], tb[1], tb[2]);
+      }
+      throw Degenerate{"faces near the intersection curve cross after rounding, near " + detail::where(pa[0])};
+    }
+  };
+  const AabbTree tree(out, fresh);
+  tree.for_each_overlapping_pair(test);
+  // Every unchanged face near them, not only those sharing a corner: a collapse can swing a fresh
+  // face through a face a little way off.
+  BoundingBox near;
+  for (Index f : fresh) near.extend(triangle_box(out, f));
+  for (Index g : unchanged) {
+    const BoundingBox box = triangle_box(out, g);
+    if (!box.overlaps(near)) continue;
+    tree.for_each_in_box(box, [&](Index f) { test(f, g); });
+  }
 }
 
 } // namespace st::boolean_detail

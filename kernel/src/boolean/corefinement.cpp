@@ -490,12 +490,25 @@ private:
     for (int s = 0; s < 2; ++s) {
       const bool reverse = op == BooleanOp::Difference && s == 1;
       const TriangleMesh& m = mesh(s);
-      if (keep(s, far_outside, op))
-        for (Index f = 0; f < m.face_count(); ++f)
-          if (!local_[s][f]) {
-            const Triangle& t = m.triangles[f];
-            emit({base(s) + t[0], base(s) + t[1], base(s) + t[2]}, reverse, static_cast<std::uint8_t>(s), f);
+      if (keep(s, far_outside, op)) { // as emit() would, without its cases: most of a large operand
+        Index* const map = remap.data() + base(s);
+        for (Index f = 0; f < m.face_count(); ++f) {
+          if (local_[s][f]) continue;
+          Triangle t = m.triangles[f];
+          for (Index& v : t) {
+            Index& to = map[v];
+            if (to == kInvalidIndex) {
+              to = out.vertex_count();
+              out.positions.push_back(options_.round_to_float ? to_float32(m.positions[v]) : m.positions[v]);
+            }
+            v = to;
           }
+          if (reverse) std::swap(t[1], t[2]);
+          out.triangles.push_back(t);
+          result.from_b.push_back(static_cast<std::uint8_t>(s));
+          result.source_face.push_back(f);
+        }
+      }
       // keep() is evaluated once per component.
       std::vector<std::int8_t> kept(verdicts_[s].size(), -1);
       for (std::size_t i = 0; i < pieces_[s].size(); ++i) {
@@ -520,52 +533,13 @@ private:
       if (debug_) std::fprintf(stderr, "  collapsed %zu edges under %.3g\n", result.collapsed_edges, short_edge_);
     }
     if (options_.check_result) {
-      check_fresh(out, fresh, unchanged);
+      check_fresh(out, fresh, unchanged, debug_);
       check_closed_at_curve(out, fresh, unchanged);
     }
     result.intersecting_pairs = seam_.size();
     result.curve_segments = seam_.size();
     result.split_faces = split_[0].size() + split_[1].size();
     return result;
-  }
-
-  // After rounding, the faces near the curves must still be proper triangles that do not cross each
-  // other or the unchanged faces around them.
-  void check_fresh(const TriangleMesh& out, const std::vector<Index>& fresh,
-                   const std::vector<Index>& unchanged) const {
-    for (Index f : fresh) {
-      const Triangle& t = out.triangles[f];
-      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) throw Degenerate{"two corners rounded together"};
-      const Vec3 n = (out.positions[t[1]] - out.positions[t[0]]).cross(out.positions[t[2]] - out.positions[t[0]]);
-      if (n.squaredNorm() == 0.0) throw Degenerate{"a triangle rounded flat"};
-    }
-    if (fresh.empty()) return;
-    auto test = [&](Index f, Index g) {
-      const Triangle &ta = out.triangles[f], &tb = out.triangles[g];
-      const std::array<Vec3, 3> pa = {out.positions[ta[0]], out.positions[ta[1]], out.positions[ta[2]]};
-      const std::array<Vec3, 3> pb = {out.positions[tb[0]], out.positions[tb[1]], out.positions[tb[2]]};
-      if (mesh_triangles_intersect(ta, pa, tb, pb)) {
-        if (debug_) {
-          std::fprintf(stderr, "  crossing faces %u and %u:\n", f, g);
-          for (const auto* p : {&pa, &pb})
-            std::fprintf(stderr, "    (%.9g %.9g %.9g) (%.9g %.9g %.9g) (%.9g %.9g %.9g)\n", (*p)[0].x(), (*p)[0].y(),
-                         (*p)[0].z(), (*p)[1].x(), (*p)[1].y(), (*p)[1].z(), (*p)[2].x(), (*p)[2].y(), (*p)[2].z());
-          std::fprintf(stderr, "    ids %u %u %u / %u %u %u\n", ta[0], ta[1], ta[2], tb[0], tb[1], tb[2]);
-        }
-        throw Degenerate{"faces near the intersection curve cross after rounding, near " + detail::where(pa[0])};
-      }
-    };
-    const AabbTree tree(out, fresh);
-    tree.for_each_overlapping_pair(test);
-    // Every unchanged face near them, not only those sharing a corner: a collapse can swing a fresh
-    // face through a face a little way off.
-    BoundingBox near;
-    for (Index f : fresh) near.extend(triangle_box(out, f));
-    for (Index g : unchanged) {
-      const BoundingBox box = triangle_box(out, g);
-      if (!box.overlaps(near)) continue;
-      tree.for_each_in_box(box, [&](Index f) { test(f, g); });
-    }
   }
 
   const TriangleMesh& a_;

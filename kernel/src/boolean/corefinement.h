@@ -125,6 +125,12 @@ enum class VertexOrigin : std::uint8_t { first, second, curve_on_first_edge, cur
 std::size_t collapse_short_edges(BooleanResult& r, const std::vector<VertexOrigin>& origin, double min_length,
                                  std::vector<Index>& fresh, std::vector<Index>& unchanged);
 
+/// After rounding (and collapsing), the `fresh` faces of an assembled result must still be proper
+/// triangles that cross neither each other nor the `unchanged` faces around them: throws Degenerate
+/// when they do (with `debug`, the two faces to stderr). In collapse.cpp.
+void check_fresh(const TriangleMesh& out, const std::vector<Index>& fresh, const std::vector<Index>& unchanged,
+                 bool debug);
+
 /// One corefinement of `a` and `b` (points closer than `short_edge` on the curve merged). Throws
 /// Degenerate when a contact is not in general position. With options.round_to_float the operands'
 /// coordinates are float32 already (mesh_boolean rounds them): only the new points are rounded here.

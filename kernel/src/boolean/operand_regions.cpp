@@ -82,9 +82,10 @@ std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<Orient
     size = std::max(size, b.world.diagonal());
   }
   const double margin = 1e-9 * (size + all.max.cwiseAbs().maxCoeff() + all.min.cwiseAbs().maxCoeff());
-  all = all.inflated(margin);
+  std::vector<BoundingBox> grown; // each component's own: spread sleeves' box would hold most of a template
+  for (const OrientedBox& b : boxes) grown.push_back(b.world.inflated(margin));
   std::vector<Index> out;
-  for (Index f : faces_meeting_box(mesh, all)) {
+  for (Index f : faces_meeting_boxes(mesh, grown)) {
     const Triangle& t = mesh.triangles[f];
     const BoundingBox box = triangle_box(mesh, f);
     const std::array<Vec3, 3> corners = {mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]};

@@ -2,6 +2,7 @@
 
 #include "st/core/errors.h"
 
+#include <algorithm>
 #include <cmath>
 #include <unordered_map>
 
@@ -54,20 +55,48 @@ std::vector<Vec3> vertex_normals(const TriangleMesh& mesh) {
 }
 
 std::vector<Index> faces_meeting_box(const TriangleMesh& mesh, const BoundingBox& box) {
+  return faces_meeting_boxes(mesh, std::span<const BoundingBox>(&box, 1));
+}
+
+std::vector<Index> faces_meeting_boxes(const TriangleMesh& mesh, std::span<const BoundingBox> boxes) {
+  std::vector<BoundingBox> valid;
+  for (const BoundingBox& b : boxes)
+    if (b.valid()) valid.push_back(b);
   std::vector<Index> faces;
-  if (!box.valid()) return faces;
-  std::vector<std::uint8_t> beyond(mesh.vertex_count());
-  for (Index v = 0; v < mesh.vertex_count(); ++v) {
-    const Vec3& p = mesh.positions[v];
-    unsigned c = 0;
-    for (int k = 0; k < 3; ++k)
-      c |= (p[k] < box.min[k] ? 1u : 0u) << (2 * k) | (p[k] > box.max[k] ? 2u : 0u) << (2 * k);
-    beyond[v] = static_cast<std::uint8_t>(c);
+  if (valid.empty()) return faces;
+  // Five boxes to a pass, six bits each in a vertex's code. A face meets box i when bits 6i .. 6i + 5
+  // of its corners' common bits are all clear: folded onto bit 6i, a set bit there marks a miss.
+  constexpr std::size_t kPerPass = 5;
+  std::vector<std::uint32_t> beyond(mesh.vertex_count());
+  std::vector<std::uint8_t> meets(valid.size() > kPerPass ? mesh.face_count() : 0, 0);
+  for (std::size_t first = 0; first < valid.size(); first += kPerPass) {
+    const std::size_t count = std::min(kPerPass, valid.size() - first);
+    std::uint32_t all_missed = 0;
+    for (std::size_t i = 0; i < count; ++i) all_missed |= 1u << (6 * i);
+    for (Index v = 0; v < mesh.vertex_count(); ++v) {
+      const Vec3& p = mesh.positions[v];
+      std::uint32_t c = 0;
+      for (std::size_t i = 0; i < count; ++i) {
+        const BoundingBox& box = valid[first + i];
+        for (int k = 0; k < 3; ++k)
+          c |= ((p[k] < box.min[k] ? 1u : 0u) << (2 * k) | (p[k] > box.max[k] ? 2u : 0u) << (2 * k)) << (6 * i);
+      }
+      beyond[v] = c;
+    }
+    for (Index f = 0; f < mesh.face_count(); ++f) {
+      const Triangle& t = mesh.triangles[f];
+      std::uint32_t c = beyond[t[0]] & beyond[t[1]] & beyond[t[2]];
+      c |= c >> 1;
+      c |= c >> 2;
+      c |= c >> 2;
+      if ((c & all_missed) == all_missed) continue;
+      if (meets.empty()) faces.push_back(f);
+      else meets[f] = 1;
+    }
   }
-  for (Index f = 0; f < mesh.face_count(); ++f) {
-    const Triangle& t = mesh.triangles[f];
-    if (!(beyond[t[0]] & beyond[t[1]] & beyond[t[2]])) faces.push_back(f);
-  }
+  if (!meets.empty())
+    for (Index f = 0; f < mesh.face_count(); ++f)
+      if (meets[f]) faces.push_back(f);
   return faces;
 }
 

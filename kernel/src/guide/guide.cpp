@@ -54,8 +54,8 @@ AxisStretch axis_stretch(const TubeSpec& tube, const GuideOptions& options) {
 
 // Per tube, the faces of `mesh` that may come within its outer radius of its axis stretch: their box
 // meets the stretch's box, and the ball around their box meets the stretch grown by the radius (a
-// long tilted axis has a large box; the ball test keeps the faces near the axis only). One pass over
-// the mesh for all tubes.
+// long tilted axis has a large box; the ball test keeps the faces near the axis only). The faces
+// meeting each tube's box, not the box around them all, which holds most of a template.
 std::vector<std::vector<Index>> faces_around(const TriangleMesh& mesh, const std::vector<TubeSpec>& tubes,
                                              const GuideOptions& options) {
   struct Reach {
@@ -64,7 +64,7 @@ std::vector<std::vector<Index>> faces_around(const TriangleMesh& mesh, const std
     BoundingBox box;
   };
   std::vector<Reach> reaches;
-  BoundingBox all;
+  std::vector<BoundingBox> boxes;
   for (const TubeSpec& tube : tubes) {
     const AxisStretch s = axis_stretch(tube, options);
     const Vec3 a = tube_point(tube, s.start + s.above), b = tube_point(tube, s.start - s.reach);
@@ -72,10 +72,10 @@ std::vector<std::vector<Index>> faces_around(const TriangleMesh& mesh, const std
     box.extend(a);
     box.extend(b);
     reaches.push_back({a, b - a, (b - a).squaredNorm(), tube.outer_radius, box.inflated(tube.outer_radius)});
-    all.extend(reaches.back().box);
+    boxes.push_back(reaches.back().box);
   }
   std::vector<std::vector<Index>> faces(tubes.size());
-  for (Index f : faces_meeting_box(mesh, all)) {
+  for (Index f : faces_meeting_boxes(mesh, boxes)) {
     const BoundingBox fb = triangle_box(mesh, f);
     const Vec3 c = fb.center();
     const double half = 0.5 * fb.size().norm();

@@ -64,6 +64,10 @@ std::size_t drop_fragments(TriangleMesh& mesh, std::vector<std::uint8_t>& from_t
     sets.join(t[0], t[1]);
     sets.join(t[1], t[2]);
   }
+  // One set (the usual case): nothing to weigh, nothing to drop.
+  Index sets_used = 0;
+  for (Index v = 0; v < mesh.vertex_count() && sets_used < 2; ++v) sets_used += sets.find(v) == v;
+  if (sets_used <= 1) return 0;
   std::vector<double> volume(mesh.vertex_count(), 0.0);
   for (const Triangle& t : mesh.triangles)
     volume[sets.find(t[0])] += mesh.positions[t[0]].dot(mesh.positions[t[1]].cross(mesh.positions[t[2]])) / 6.0;

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,11 @@ BoundingBox bounding_box(const TriangleMesh& mesh);
 /// box misses `box` exactly when its three corners' codes share a bit, so a pass over the faces reads three
 /// bytes each (the faces near a part of a large mesh).
 std::vector<Index> faces_meeting_box(const TriangleMesh& mesh, const BoundingBox& box);
+
+/// The faces whose boxes meet at least one of `boxes` (sides included), ascending; the empty boxes meet
+/// none. The same codes, a few boxes to a pass: for parts spread over a large mesh, where the box around
+/// them all would hold most of its faces.
+std::vector<Index> faces_meeting_boxes(const TriangleMesh& mesh, std::span<const BoundingBox> boxes);
 
 /// Bounding box of the three corners of triangle `f`.
 inline BoundingBox triangle_box(const TriangleMesh& mesh, Index f) {
