@@ -161,8 +161,8 @@ TEST(MeshBoxes, FacesMeetingABoxAreExactlyTheFacesWhoseBoxesMeetIt) {
         if (triangle_box(mesh, f).overlaps(box)) expected.push_back(f);
       EXPECT_EQ(faces_meeting_box(mesh, box), expected);
     }
-    // Several boxes at once (five to a pass: one pass, two, three), the empty one among them: the
-    // faces meeting any of them.
+    // Several boxes at once (five to a pass: one pass, two, three, all; all of them hold the empty
+    // one): the faces meeting any of them.
     std::shuffle(boxes.begin(), boxes.end(), rng);
     for (const std::size_t count : {std::size_t{2}, std::size_t{5}, std::size_t{6}, std::size_t{11}, boxes.size()}) {
       const std::span<const BoundingBox> some(boxes.data(), std::min(count, boxes.size()));

@@ -96,8 +96,10 @@ public:
 
   std::size_t collapses() const { return collapses_; }
 
-  /// Drops the removed faces and the vertices moved away, in place: the others keep their order (a
-  /// corner's id less the vertices dropped below it); the face lists follow.
+  /// Drops the removed faces and the vertices moved away, in place: the others keep their relative
+  /// order (a corner's id less the vertices dropped below it; no longer the order of first use that
+  /// assemble() gave, which nothing relies on); the face lists follow. Only those vertices fall out of
+  /// use: the link condition keeps the two opposite corners of each collapsed edge in other faces.
   void compact(BooleanResult& r, std::vector<Index>& fresh, std::vector<Index>& unchanged) {
     std::vector<Index> below(m_.vertex_count());
     Index dropped = 0, kept_vertices = 0;

@@ -61,12 +61,12 @@ BoundingBox bounding_box(const TriangleMesh& mesh);
 /// The faces whose boxes meet `box` (sides included), ascending; none when `box` is empty. Each vertex
 /// gets the sides of `box` it lies beyond (bit 2k below box.min[k], bit 2k + 1 above box.max[k]); a face's
 /// box misses `box` exactly when its three corners' codes share a bit, so a pass over the faces reads three
-/// bytes each (the faces near a part of a large mesh).
+/// codes each (the faces near a part of a large mesh).
 std::vector<Index> faces_meeting_box(const TriangleMesh& mesh, const BoundingBox& box);
 
 /// The faces whose boxes meet at least one of `boxes` (sides included), ascending; the empty boxes meet
-/// none. The same codes, a few boxes to a pass: for parts spread over a large mesh, where the box around
-/// them all would hold most of its faces.
+/// none. The same codes, six bits a box, five boxes to a vertex's 32 bits and to a pass: for parts spread over a
+/// large mesh, where the box around them all would hold most of its faces.
 std::vector<Index> faces_meeting_boxes(const TriangleMesh& mesh, std::span<const BoundingBox> boxes);
 
 /// Bounding box of the three corners of triangle `f`.
