@@ -10,6 +10,7 @@
 #include "st/core/ray_triangle.h"
 #include "st/io/mesh_io.h"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -37,6 +38,13 @@ std::vector<TriangleMesh> meshes() {
   });
   for (Vec3& p : grid.positions) p += kFar;
   return {make_icosphere(1.0, 3, kFar), grid};
+}
+
+// The same and a flat grid (faces whose boxes have no thickness).
+std::vector<TriangleMesh> meshes_and_flat() {
+  std::vector<TriangleMesh> all = meshes();
+  all.push_back(make_grid_patch(10, 0.0, 5.0, 0.0, 5.0, [](double u, double v) { return Vec3(u, v, 1.0); }));
+  return all;
 }
 
 std::vector<Vec3> probes(const TriangleMesh& mesh, int count, unsigned seed) {
@@ -133,10 +141,7 @@ TEST(AabbTree, FirstHitsAndBoxesEqualBruteForceFarFromTheOrigin) {
 // faces_meeting_box's codes reject exactly the faces whose boxes miss the box: random boxes, and boxes whose
 // sides pass through the mesh's vertices (a face touching the box by a corner, an edge or a side meets it).
 TEST(MeshBoxes, FacesMeetingABoxAreExactlyTheFacesWhoseBoxesMeetIt) {
-  const TriangleMesh flat = make_grid_patch(10, 0.0, 5.0, 0.0, 5.0, [](double u, double v) { return Vec3(u, v, 1.0); });
-  std::vector<TriangleMesh> all = meshes();
-  all.push_back(flat);
-  for (const TriangleMesh& mesh : all) {
+  for (const TriangleMesh& mesh : meshes_and_flat()) {
     std::mt19937 rng(7);
     std::uniform_int_distribution<Index> vertex(0, mesh.vertex_count() - 1);
     const std::vector<Vec3> probe = probes(mesh, 60, 5);
@@ -172,6 +177,55 @@ TEST(MeshBoxes, FacesMeetingABoxAreExactlyTheFacesWhoseBoxesMeetIt) {
                         [&](const BoundingBox& b) { return triangle_box(mesh, f).overlaps(b); }))
           expected.push_back(f);
       EXPECT_EQ(faces_meeting_boxes(mesh, some), expected) << some.size() << " boxes";
+    }
+  }
+}
+
+// Boxes in frames of their own (tilted, as about a tube's axis): a face is left out exactly when its
+// corners all lie beyond one side of every box, so every face with a point in a box is kept; one pass
+// (one, five boxes) and two (seven).
+TEST(MeshBoxes, FacesNearFramedBoxesKeepEveryFaceWithAPointInOne) {
+  for (const TriangleMesh& mesh : meshes_and_flat()) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    std::uniform_int_distribution<Index> vertex(0, mesh.vertex_count() - 1);
+    const double size = bounding_box(mesh).diagonal();
+    std::vector<FramedBox> boxes;
+    for (int i = 0; i < 7; ++i) {
+      FramedBox b;
+      b.axes = Eigen::Quaterniond(unit(rng), unit(rng), unit(rng), unit(rng)).normalized().toRotationMatrix();
+      b.centre = mesh.positions[vertex(rng)];
+      b.half =
+          Vec3(0.05 + 0.1 * std::abs(unit(rng)), 0.05 + 0.1 * std::abs(unit(rng)), 0.3 * std::abs(unit(rng))) * size;
+      boxes.push_back(b);
+    }
+    auto inside = [](const FramedBox& b, const Vec3& p) {
+      return ((b.axes * (p - b.centre)).cwiseAbs().array() <= b.half.array()).all();
+    };
+    for (const std::size_t count : {std::size_t{1}, std::size_t{5}, std::size_t{7}}) {
+      const std::span<const FramedBox> some(boxes.data(), count);
+      const std::vector<Index> found = faces_near_framed_boxes(mesh, some);
+      std::vector<Index> expected;
+      for (Index f = 0; f < mesh.face_count(); ++f) {
+        const Triangle& t = mesh.triangles[f];
+        bool near = false;
+        for (const FramedBox& b : some) {
+          std::array<Vec3, 3> q;
+          for (int k = 0; k < 3; ++k) q[k] = b.axes * (mesh.positions[t[k]] - b.centre);
+          bool beyond = false;
+          for (int k = 0; k < 3; ++k)
+            beyond = beyond || (q[0][k] < -b.half[k] && q[1][k] < -b.half[k] && q[2][k] < -b.half[k]) ||
+                     (q[0][k] > b.half[k] && q[1][k] > b.half[k] && q[2][k] > b.half[k]);
+          near = near || !beyond;
+          // A point of the face in the box: the face is kept.
+          const Vec3 centroid = (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0;
+          if (inside(b, centroid) || inside(b, mesh.positions[t[0]]))
+            EXPECT_TRUE(std::binary_search(found.begin(), found.end(), f)) << "face " << f;
+        }
+        if (near) expected.push_back(f);
+      }
+      EXPECT_EQ(found, expected) << count << " boxes";
+      EXPECT_LT(found.size(), mesh.face_count()) << "boxes over the whole mesh test nothing";
     }
   }
 }

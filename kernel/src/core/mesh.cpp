@@ -58,29 +58,27 @@ std::vector<Index> faces_meeting_box(const TriangleMesh& mesh, const BoundingBox
   return faces_meeting_boxes(mesh, std::span<const BoundingBox>(&box, 1));
 }
 
-std::vector<Index> faces_meeting_boxes(const TriangleMesh& mesh, std::span<const BoundingBox> boxes) {
-  std::vector<BoundingBox> valid;
-  for (const BoundingBox& b : boxes)
-    if (b.valid()) valid.push_back(b);
+namespace {
+
+// The faces not beyond one side of at least one of `count` boxes, ascending, where code(i, p) gives the
+// sides of box i that point p lies beyond (bit 2k below its lower side along axis k, 2k + 1 above its
+// upper side). Five boxes to a pass, six bits each in a vertex's code: a face is beyond box i when
+// bits 6i .. 6i + 5 of its corners' common bits are not all clear; folded onto bit 6i, a set bit there
+// marks that.
+template <class Code>
+std::vector<Index> faces_not_beyond(const TriangleMesh& mesh, std::size_t count, const Code& code) {
   std::vector<Index> faces;
-  if (valid.empty()) return faces;
-  // Five boxes to a pass, six bits each in a vertex's code. A face meets box i when bits 6i .. 6i + 5
-  // of its corners' common bits are all clear: folded onto bit 6i, a set bit there marks a miss.
+  if (count == 0) return faces;
   constexpr std::size_t kPerPass = 5;
   std::vector<std::uint32_t> beyond(mesh.vertex_count());
-  std::vector<std::uint8_t> meets(valid.size() > kPerPass ? mesh.face_count() : 0, 0);
-  for (std::size_t first = 0; first < valid.size(); first += kPerPass) {
-    const std::size_t count = std::min(kPerPass, valid.size() - first);
-    std::uint32_t all_missed = 0;
-    for (std::size_t i = 0; i < count; ++i) all_missed |= 1u << (6 * i);
+  std::vector<std::uint8_t> meets(count > kPerPass ? mesh.face_count() : 0, 0);
+  for (std::size_t first = 0; first < count; first += kPerPass) {
+    const std::size_t here = std::min(kPerPass, count - first);
+    std::uint32_t all_beyond = 0;
+    for (std::size_t i = 0; i < here; ++i) all_beyond |= 1u << (6 * i);
     for (Index v = 0; v < mesh.vertex_count(); ++v) {
-      const Vec3& p = mesh.positions[v];
       std::uint32_t c = 0;
-      for (std::size_t i = 0; i < count; ++i) {
-        const BoundingBox& box = valid[first + i];
-        for (int k = 0; k < 3; ++k)
-          c |= ((p[k] < box.min[k] ? 1u : 0u) << (2 * k) | (p[k] > box.max[k] ? 2u : 0u) << (2 * k)) << (6 * i);
-      }
+      for (std::size_t i = 0; i < here; ++i) c |= code(first + i, mesh.positions[v]) << (6 * i);
       beyond[v] = c;
     }
     for (Index f = 0; f < mesh.face_count(); ++f) {
@@ -89,7 +87,7 @@ std::vector<Index> faces_meeting_boxes(const TriangleMesh& mesh, std::span<const
       c |= c >> 1;
       c |= c >> 2;
       c |= c >> 2;
-      if ((c & all_missed) == all_missed) continue;
+      if ((c & all_beyond) == all_beyond) continue;
       if (meets.empty()) faces.push_back(f);
       else meets[f] = 1;
     }
@@ -98,6 +96,31 @@ std::vector<Index> faces_meeting_boxes(const TriangleMesh& mesh, std::span<const
     for (Index f = 0; f < mesh.face_count(); ++f)
       if (meets[f]) faces.push_back(f);
   return faces;
+}
+
+// The sides of [lo, hi] that the coordinates q lie beyond, as faces_not_beyond codes them.
+template <class Q, class L, class H> std::uint32_t sides_beyond(const Q& q, const L& lo, const H& hi) {
+  std::uint32_t c = 0;
+  for (int k = 0; k < 3; ++k) c |= ((q[k] < lo[k] ? 1u : 0u) | (q[k] > hi[k] ? 2u : 0u)) << (2 * k);
+  return c;
+}
+
+} // namespace
+
+std::vector<Index> faces_meeting_boxes(const TriangleMesh& mesh, std::span<const BoundingBox> boxes) {
+  std::vector<BoundingBox> valid;
+  for (const BoundingBox& b : boxes)
+    if (b.valid()) valid.push_back(b);
+  return faces_not_beyond(mesh, valid.size(),
+                          [&](std::size_t i, const Vec3& p) { return sides_beyond(p, valid[i].min, valid[i].max); });
+}
+
+std::vector<Index> faces_near_framed_boxes(const TriangleMesh& mesh, std::span<const FramedBox> boxes) {
+  return faces_not_beyond(mesh, boxes.size(), [&](std::size_t i, const Vec3& p) {
+    const FramedBox& b = boxes[i];
+    const Vec3 q = b.axes * (p - b.centre);
+    return sides_beyond(q, -b.half, b.half);
+  });
 }
 
 TriangleMesh submesh(const TriangleMesh& mesh, const std::vector<Index>& faces, std::vector<Index>* vertex_map) {

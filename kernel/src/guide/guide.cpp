@@ -54,8 +54,9 @@ AxisStretch axis_stretch(const TubeSpec& tube, const GuideOptions& options) {
 
 // Per tube, the faces of `mesh` that may come within its outer radius of its axis stretch: their box
 // meets the stretch's box, and the ball around their box meets the stretch grown by the radius (a
-// long tilted axis has a large box; the ball test keeps the faces near the axis only). The faces
-// meeting each tube's box, not the box around them all, which holds most of a template.
+// long tilted axis has a large box; the ball test keeps the faces near the axis only). First the faces
+// near each stretch's own prism (the square about the axis, of the outer radius, along the stretch),
+// found by per-vertex codes in its frame: every face a ray of place() can meet is among them.
 std::vector<std::vector<Index>> faces_around(const TriangleMesh& mesh, const std::vector<TubeSpec>& tubes,
                                              const GuideOptions& options) {
   struct Reach {
@@ -64,7 +65,7 @@ std::vector<std::vector<Index>> faces_around(const TriangleMesh& mesh, const std
     BoundingBox box;
   };
   std::vector<Reach> reaches;
-  std::vector<BoundingBox> boxes;
+  std::vector<FramedBox> prisms;
   for (const TubeSpec& tube : tubes) {
     const AxisStretch s = axis_stretch(tube, options);
     const Vec3 a = tube_point(tube, s.start + s.above), b = tube_point(tube, s.start - s.reach);
@@ -72,10 +73,19 @@ std::vector<std::vector<Index>> faces_around(const TriangleMesh& mesh, const std
     box.extend(a);
     box.extend(b);
     reaches.push_back({a, b - a, (b - a).squaredNorm(), tube.outer_radius, box.inflated(tube.outer_radius)});
-    boxes.push_back(reaches.back().box);
+    FramedBox prism;
+    Vec3 u, v;
+    const Vec3 axis = tube_axis(tube);
+    orthonormal_frame(axis, u, v);
+    prism.axes << u.transpose(), v.transpose(), axis.transpose();
+    prism.centre = 0.5 * (a + b);
+    // Grown far beyond the rounding of a corner's coordinates in the frame.
+    const double grown = 1e-9 * (1.0 + prism.centre.cwiseAbs().maxCoeff() + (b - a).norm() + tube.outer_radius);
+    prism.half = Vec3(tube.outer_radius, tube.outer_radius, 0.5 * (b - a).norm()) + Vec3::Constant(grown);
+    prisms.push_back(prism);
   }
   std::vector<std::vector<Index>> faces(tubes.size());
-  for (Index f : faces_meeting_boxes(mesh, boxes)) {
+  for (Index f : faces_near_framed_boxes(mesh, prisms)) {
     const BoundingBox fb = triangle_box(mesh, f);
     const Vec3 c = fb.center();
     const double half = 0.5 * fb.size().norm();

@@ -69,6 +69,19 @@ std::vector<Index> faces_meeting_box(const TriangleMesh& mesh, const BoundingBox
 /// large mesh, where the box around them all would hold most of its faces.
 std::vector<Index> faces_meeting_boxes(const TriangleMesh& mesh, std::span<const BoundingBox> boxes);
 
+/// A box in a frame of its own: the points p with |axes.row(k) . (p - centre)| <= half[k], k = 0, 1, 2.
+struct FramedBox {
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity(); ///< rows: orthonormal axes
+  Vec3 centre = Vec3::Zero();
+  Vec3 half = Vec3::Zero();
+};
+
+/// The faces whose corners, in the frame of at least one of `boxes`, do not all lie beyond one side of
+/// it, ascending (the same codes): every face that meets one of them is among them, but for one whose
+/// corners' coordinates in the frame round across a side (grow the boxes a little for that). For a
+/// long tilted part, whose axis-aligned box holds far more of a mesh than the part comes near.
+std::vector<Index> faces_near_framed_boxes(const TriangleMesh& mesh, std::span<const FramedBox> boxes);
+
 /// Bounding box of the three corners of triangle `f`.
 inline BoundingBox triangle_box(const TriangleMesh& mesh, Index f) {
   BoundingBox box;
