@@ -183,7 +183,7 @@ private:
     Index begin = 0; // the range in faces_ under it
     Index end = 0;
   };
-  static constexpr Index kLeafSize = 4;
+  static constexpr Index kLeafSize = 16;
   /// Whether the corners of face b all lie strictly on one side of face a's plane, or a's of b's: the
   /// two triangles do not meet. Each plane as computed, widened by its spread over its own corners
   /// and by `margin` times its normal's 1-norm (see plane_margin). False whenever a corner is not a
