@@ -91,23 +91,46 @@ TEST(AabbTree, ClosestPointsOverSlabsEqualBruteForce) {
     const Index along = large ? 50 : 300;
     for (Index v = 0; v < mesh.vertex_count(); v += std::max<Index>(1, mesh.vertex_count() / along))
       for (const double off : {0.05, 0.3, 2.5, -0.3}) points.push_back(mesh.positions[v] + off * normals[v]);
+    // Searches from the top, from the previous point's closest face (near, as where the fit uses it),
+    // and from a face anywhere: the same distance.
+    Index previous = kInvalidIndex;
+    std::mt19937 random(5);
     for (const Vec3& p : points) {
       double best = std::numeric_limits<double>::infinity();
       for (const Triangle& t : mesh.triangles)
         best = std::min(
             best, (closest_point_on_triangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]) - p)
                       .norm());
-      const auto found =
-          tree.closest_point(p, std::numeric_limits<double>::infinity(), slabs, [](Index, double) { return false; });
-      ASSERT_TRUE(found.has_value());
-      EXPECT_EQ(found->distance, best) << "at (" << p.transpose() << ")";
+      const Index anywhere = std::uniform_int_distribution<Index>(0, mesh.face_count() - 1)(random);
+      for (const Index start : {kInvalidIndex, previous, anywhere}) {
+        const auto found = tree.closest_point(p, std::numeric_limits<double>::infinity(), slabs, start);
+        ASSERT_TRUE(found.has_value());
+        EXPECT_EQ(found->distance, best) << "at (" << p.transpose() << ") from face " << start;
+        previous = found->face;
+      }
+      // Bounded by the distance itself (as the fit's searches nearly are): found all the same.
+      const auto bounded = tree.closest_point(p, best * (1.0 + 1e-9), slabs, anywhere);
+      ASSERT_TRUE(bounded.has_value());
+      EXPECT_EQ(bounded->distance, best);
     }
+  }
+  // A tree over some of the faces starts from the top for a face it does not hold.
+  const TriangleMesh& sphere = all[0];
+  std::vector<Index> half;
+  for (Index f = 0; f < sphere.face_count(); f += 2) half.push_back(f);
+  const AabbTree part(sphere, half);
+  const AabbTree::Slabs part_slabs = part.slabs();
+  for (const Vec3& p : probes(sphere, 50, 3)) {
+    const auto top = part.closest_point(p, std::numeric_limits<double>::infinity(), part_slabs);
+    ASSERT_TRUE(top.has_value());
+    for (const Index start : {Index{0}, Index{1}, sphere.face_count() - 1, sphere.face_count() + 7})
+      EXPECT_EQ(part.closest_point(p, std::numeric_limits<double>::infinity(), part_slabs, start)->distance,
+                top->distance);
+    EXPECT_EQ(top->face % 2, 0U);
   }
   // A tree keeps a reference to its mesh: `all` outlives both trees.
   const AabbTree other(all[0]);
-  EXPECT_THROW(
-      (void)AabbTree(all[1]).closest_point(Vec3::Zero(), 1.0, other.slabs(), [](Index, double) { return false; }),
-      std::logic_error);
+  EXPECT_THROW((void)AabbTree(all[1]).closest_point(Vec3::Zero(), 1.0, other.slabs()), std::logic_error);
 }
 
 TEST(AabbTree, FirstHitsAndBoxesEqualBruteForceFarFromTheOrigin) {

@@ -143,37 +143,63 @@ Index AabbTree::build(const std::vector<std::uint64_t>& codes, Index begin, Inde
   return id;
 }
 
+namespace {
+
+// The slab about `centre` that holds `faces` of `mesh`: across their summed normal; invalid when the
+// normals cancel (or are not numbers).
+AabbTree::Slab slab_of(const TriangleMesh& mesh, std::span<const Index> faces, const Vec3& centre) {
+  AabbTree::Slab slab;
+  Vec3 sum = Vec3::Zero();
+  for (const Index f : faces) {
+    const Triangle& t = mesh.triangles[f];
+    sum += (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
+  }
+  const double length = sum.norm();
+  if (!(length > 0.0) || !std::isfinite(length)) return slab;
+  slab.normal = sum / length;
+  slab.centre = centre;
+  double height = 0.0, radius2 = 0.0;
+  for (const Index f : faces)
+    for (const Index v : mesh.triangles[f]) {
+      const Vec3 d = mesh.positions[v] - centre;
+      const double h = slab.normal.dot(d);
+      height = std::max(height, std::abs(h));
+      radius2 = std::max(radius2, d.squaredNorm() - h * h);
+    }
+  // Grown a little so that rounding never puts a corner outside it.
+  slab.half_thickness = height * (1.0 + 1e-9) + 1e-12;
+  slab.radius = std::sqrt(std::max(radius2, 0.0)) * (1.0 + 1e-9) + 1e-12;
+  slab.valid = true;
+  return slab;
+}
+
+} // namespace
+
 AabbTree::Slabs AabbTree::slabs() const {
   Slabs out;
   out.per_node.resize(nodes_.size());
+  out.parent.assign(nodes_.size(), kInvalidIndex);
+  out.per_face.resize(faces_.size());
+  out.leaf_of.assign(mesh_.face_count(), kInvalidIndex);
+  const std::span<const Index> faces = faces_;
   detail::parallel_for(nodes_.size(), 4096, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t id = begin; id < end; ++id) {
       const Node& n = nodes_[id];
-      if (n.end - n.begin > Slabs::kMaxFaces) continue;
-      Vec3 sum = Vec3::Zero();
-      for (Index i = n.begin; i < n.end; ++i) {
-        const Triangle& t = mesh_.triangles[faces_[i]];
-        sum += (mesh_.positions[t[1]] - mesh_.positions[t[0]]).cross(mesh_.positions[t[2]] - mesh_.positions[t[0]]);
-      }
-      const double length = sum.norm();
-      if (!(length > 0.0) || !std::isfinite(length)) continue; // no plane: the box alone bounds it
-      Slab& slab = out.per_node[id];
-      slab.normal = sum / length;
-      slab.centre =
-          Vec3(0.5 * (double(n.box.min[0]) + double(n.box.max[0])), 0.5 * (double(n.box.min[1]) + double(n.box.max[1])),
-               0.5 * (double(n.box.min[2]) + double(n.box.max[2])));
-      double height = 0.0, radius2 = 0.0;
-      for (Index i = n.begin; i < n.end; ++i)
-        for (const Index v : mesh_.triangles[faces_[i]]) {
-          const Vec3 d = mesh_.positions[v] - slab.centre;
-          const double h = slab.normal.dot(d);
-          height = std::max(height, std::abs(h));
-          radius2 = std::max(radius2, d.squaredNorm() - h * h);
+      if (n.left != kInvalidIndex) {
+        out.parent[n.left] = out.parent[n.right] = static_cast<Index>(id);
+      } else {
+        for (Index i = n.begin; i < n.end; ++i) {
+          out.leaf_of[faces_[i]] = static_cast<Index>(id);
+          const Triangle& t = mesh_.triangles[faces_[i]];
+          const Vec3 centroid = (mesh_.positions[t[0]] + mesh_.positions[t[1]] + mesh_.positions[t[2]]) / 3.0;
+          out.per_face[i] = slab_of(mesh_, faces.subspan(i, 1), centroid);
         }
-      // Grown a little so that rounding never puts a corner outside it.
-      slab.half_thickness = height * (1.0 + 1e-9) + 1e-12;
-      slab.radius = std::sqrt(std::max(radius2, 0.0)) * (1.0 + 1e-9) + 1e-12;
-      slab.valid = true;
+      }
+      if (n.end - n.begin > Slabs::kMaxFaces) continue; // the box alone bounds it
+      const Vec3 centre(0.5 * (double(n.box.min[0]) + double(n.box.max[0])),
+                        0.5 * (double(n.box.min[1]) + double(n.box.max[1])),
+                        0.5 * (double(n.box.min[2]) + double(n.box.max[2])));
+      out.per_node[id] = slab_of(mesh_, faces.subspan(n.begin, n.end - n.begin), centre);
     }
   });
   return out;
@@ -194,46 +220,56 @@ AabbTree::AreaNormal AabbTree::area_normal_near(const Vec3& p, double radius) co
   return out;
 }
 
-template <class Beyond> std::optional<ClosestPoint> AabbTree::nearest(const Vec3& p, double max_distance,
-                                                                      const Beyond& beyond, const Slabs* slabs) const {
+std::optional<ClosestPoint> AabbTree::nearest(const Vec3& p, double max_distance, const Slabs* slabs,
+                                              Index near_face) const {
   if (nodes_.empty()) return std::nullopt;
   double best = max_distance * max_distance;
   ClosestPoint result;
   bool found = false;
-  // Depth-first, nearer child first.
-  Index stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Index id = stack[--top];
-    const Node& n = nodes_[id];
-    if (box_distance_squared(n.box.min, n.box.max, p) > best) continue;
-    if (slabs && slabs->per_node[id].beyond(p, best)) continue;
-    if (n.left == kInvalidIndex) {
-      for (Index i = n.begin; i < n.end; ++i) {
-        if (beyond(faces_[i], best)) continue;
-        const Triangle& t = mesh_.triangles[faces_[i]];
-        const Vec3 q =
-            closest_point_on_triangle(p, mesh_.positions[t[0]], mesh_.positions[t[1]], mesh_.positions[t[2]]);
-        const double d2 = (q - p).squaredNorm();
-        if (d2 <= best) {
-          best = d2;
-          result.face = faces_[i];
-          result.point = q;
-          found = true;
+  // Depth-first from `root`, nearer child first.
+  auto search = [&](Index root) {
+    Index stack[128];
+    int top = 0;
+    stack[top++] = root;
+    while (top > 0) {
+      const Index id = stack[--top];
+      const Node& n = nodes_[id];
+      if (box_distance_squared(n.box.min, n.box.max, p) > best) continue;
+      if (slabs && slabs->per_node[id].beyond(p, best)) continue;
+      if (n.left == kInvalidIndex) {
+        for (Index i = n.begin; i < n.end; ++i) {
+          if (slabs && slabs->per_face[i].beyond(p, best)) continue;
+          const Triangle& t = mesh_.triangles[faces_[i]];
+          const Vec3 q =
+              closest_point_on_triangle(p, mesh_.positions[t[0]], mesh_.positions[t[1]], mesh_.positions[t[2]]);
+          const double d2 = (q - p).squaredNorm();
+          if (d2 <= best) {
+            best = d2;
+            result.face = faces_[i];
+            result.point = q;
+            found = true;
+          }
         }
+        continue;
       }
-      continue;
+      const double dl = box_distance_squared(nodes_[n.left].box.min, nodes_[n.left].box.max, p);
+      const double dr = box_distance_squared(nodes_[n.right].box.min, nodes_[n.right].box.max, p);
+      if (dl < dr) {
+        stack[top++] = n.right;
+        stack[top++] = n.left;
+      } else {
+        stack[top++] = n.left;
+        stack[top++] = n.right;
+      }
     }
-    const double dl = box_distance_squared(nodes_[n.left].box.min, nodes_[n.left].box.max, p);
-    const double dr = box_distance_squared(nodes_[n.right].box.min, nodes_[n.right].box.max, p);
-    if (dl < dr) {
-      stack[top++] = n.right;
-      stack[top++] = n.left;
-    } else {
-      stack[top++] = n.left;
-      stack[top++] = n.right;
-    }
+  };
+  Index node = slabs && near_face < slabs->leaf_of.size() ? slabs->leaf_of[near_face] : kInvalidIndex;
+  if (node == kInvalidIndex) {
+    search(0);
+  } else { // near_face's leaf, then the sibling of each node on the way up: every node once
+    search(node);
+    for (Index up = slabs->parent[node]; up != kInvalidIndex; node = up, up = slabs->parent[up])
+      search(nodes_[up].left == node ? nodes_[up].right : nodes_[up].left);
   }
   if (!found) return std::nullopt;
   result.distance = std::sqrt(best);
@@ -241,19 +277,15 @@ template <class Beyond> std::optional<ClosestPoint> AabbTree::nearest(const Vec3
 }
 
 std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_distance) const {
-  return nearest(
-      p, max_distance, [](Index, double) { return false; }, nullptr);
-}
-
-std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_distance,
-                                                    const std::function<bool(Index, double)>& beyond) const {
-  return nearest(p, max_distance, beyond, nullptr);
+  return nearest(p, max_distance, nullptr, kInvalidIndex);
 }
 
 std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_distance, const Slabs& slabs,
-                                                    const std::function<bool(Index, double)>& beyond) const {
-  if (slabs.per_node.size() != nodes_.size()) throw std::logic_error("AabbTree: slabs of another tree");
-  return nearest(p, max_distance, beyond, &slabs);
+                                                    Index near_face) const {
+  if (slabs.per_node.size() != nodes_.size() || slabs.per_face.size() != faces_.size() ||
+      slabs.leaf_of.size() != mesh_.face_count())
+    throw std::logic_error("AabbTree: slabs of another tree");
+  return nearest(p, max_distance, &slabs, near_face);
 }
 
 template <class Leaf> bool AabbTree::along(const Vec3& origin, const Vec3& direction, double t_min, const double& t_max,

@@ -260,40 +260,6 @@ SolidReport check_solid(const TriangleMesh& mesh, const SolidOptions& options) {
   return r;
 }
 
-namespace {
-
-// Each face's plane and the disc about its centroid that holds it: a point at height h over the plane
-// and at l from the centroid along it lies at least sqrt(h^2 + max(0, l - r)^2) from the face. Two
-// dozen flops against a closest-point test's hundred: a point T over a finely tessellated surface has
-// a few hundred faces whose boxes (fat where the faces are tilted) come within T, and the disc rules
-// out all but those right under it.
-struct FaceDisc {
-  Vec3 centre;
-  Vec3 normal; // unit, or zero for a degenerate face (the bound is then the ball's)
-  double radius;
-};
-
-std::vector<FaceDisc> face_discs(const TriangleMesh& surface) {
-  std::vector<FaceDisc> discs(surface.face_count());
-  for (Index f = 0; f < surface.face_count(); ++f) {
-    const Triangle& t = surface.triangles[f];
-    const Vec3 &a = surface.positions[t[0]], &b = surface.positions[t[1]], &c = surface.positions[t[2]];
-    FaceDisc& d = discs[f];
-    d.centre = (a + b + c) / 3.0;
-    const Vec3 n = (b - a).cross(c - a);
-    const double length = n.norm();
-    d.normal = length > 0.0 ? Vec3(n / length) : Vec3::Zero();
-    // Grown a little so that rounding never puts a corner outside it.
-    d.radius = std::sqrt(std::max(
-                   {(a - d.centre).squaredNorm(), (b - d.centre).squaredNorm(), (c - d.centre).squaredNorm()})) *
-                   (1.0 + 1e-9) +
-               1e-12;
-  }
-  return discs;
-}
-
-} // namespace
-
 DistanceStats distances_to_surface(const std::vector<Vec3>& points, const TriangleMesh& surface,
                                    const std::vector<Index>& near_vertex, const AabbTree* given_tree) {
   DistanceStats s;
@@ -320,7 +286,6 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
   std::optional<AabbTree> own_tree;
   const AabbTree& tree = given_tree ? *given_tree : own_tree.emplace(surface);
   const AabbTree::Slabs slabs = tree.slabs();
-  const std::vector<FaceDisc> discs = face_discs(surface);
   // The points are searched in Morton order, so that each one's search is bounded by a near
   // neighbour's closest point (below); each point's distance is its own search's, whatever bounds it,
   // and the distances are summed in the points' own order, per chunk, chunks in order: the same
@@ -339,32 +304,25 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
   constexpr std::size_t kGrain = 1024;
   detail::parallel_for(n, kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
     // The previous point's closest point lies on the surface: its distance bounds this one's, so the
-    // search looks only within it; the distance found is the same.
-    std::optional<Vec3> last;
+    // search looks only within it, from its face up; the distance found is the same.
+    std::optional<ClosestPoint> last;
     for (std::size_t k = begin; k < end; ++k) {
       const std::size_t i = order[k].item;
       const Vec3& p = points[i];
-      // Passed over: the faces whose disc bound (less a margin for its rounding) exceeds the best.
-      const std::function<bool(Index, double)> beyond = [&](Index f, double best) {
-        const FaceDisc& d = discs[f];
-        const Vec3 v = p - d.centre;
-        const double h = d.normal.dot(v);
-        const double lateral = std::max(0.0, std::sqrt(std::max(0.0, v.squaredNorm() - h * h)) - d.radius);
-        return (h * h + lateral * lateral) * (1.0 - 1e-9) > best;
-      };
       const Index v = near_vertex.empty() ? kInvalidIndex : near_vertex[i];
       if (v != kInvalidIndex && p == surface.positions[v]) { // on its vertex: on the surface
         distance[i] = 0.0;
-        last = p;
+        last = ClosestPoint{kInvalidIndex, p, 0.0}; // a bound for the next one, but no face to start at
         continue;
       }
       // Bounds from above: the previous point's closest point and the near vertex, both on the surface.
-      double bound = last ? (p - *last).norm() : std::numeric_limits<double>::infinity();
+      double bound = last ? (p - last->point).norm() : std::numeric_limits<double>::infinity();
       if (v != kInvalidIndex) bound = std::min(bound, (p - surface.positions[v]).norm());
+      const Index start = last ? last->face : kInvalidIndex;
       std::optional<ClosestPoint> near;
-      if (std::isfinite(bound)) near = tree.closest_point(p, bound * (1.0 + 1e-9), slabs, beyond);
-      if (!near) near = tree.closest_point(p, std::numeric_limits<double>::infinity(), slabs, beyond);
-      last = near->point;
+      if (std::isfinite(bound)) near = tree.closest_point(p, bound * (1.0 + 1e-9), slabs, start);
+      if (!near) near = tree.closest_point(p, std::numeric_limits<double>::infinity(), slabs, start);
+      last = near;
       distance[i] = near->distance;
     }
   });

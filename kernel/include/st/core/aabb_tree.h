@@ -2,7 +2,7 @@
 // Axis-aligned bounding-box tree over (a subset of) the triangles of a mesh, built once and queried
 // many times: closest point, first ray hit, boxes, and overlapping triangle pairs (for collision and
 // self-intersection tests). A linear BVH: the triangles in the Morton order of their boxes' centres,
-// each node split where its cells divide, leaves of up to 4 triangles.
+// each node split where its cells divide, leaves of up to 16 triangles.
 
 #include "st/core/closest_point.h"
 #include "st/core/mesh.h"
@@ -51,12 +51,6 @@ public:
   [[nodiscard]] std::optional<ClosestPoint>
   closest_point(const Vec3& p, double max_distance = std::numeric_limits<double>::infinity()) const;
 
-  /// The same, passing over each triangle for which beyond(face, best) is true, `best` being the
-  /// squared distance found so far: a caller's cheaper bound from below on the triangle's distance
-  /// says it cannot be nearer. The result is the same when the bound holds.
-  [[nodiscard]] std::optional<ClosestPoint> closest_point(const Vec3& p, double max_distance,
-                                                          const std::function<bool(Index, double)>& beyond) const;
-
   /// Per node of up to Slabs::kMaxFaces triangles, the slab that holds them: a plane through the
   /// node's box centre across their summed normal, their greatest height over it and distance along
   /// it. A point at height h over the plane and at l from the centre along it lies at least
@@ -79,16 +73,26 @@ public:
       return (across * across + along * along) * (1.0 - 1e-9) > best;
     }
   };
+  /// The slabs, and what a search that starts near a face needs: each node's parent and each face's
+  /// leaf. A face's own slab is its plane and the disc about its centroid that holds it (two dozen
+  /// flops against an exact closest-point test's hundred: a point T over a finely tessellated surface
+  /// meets dozens of faces in the leaves it opens, and the discs rule out all but those right under it).
   struct Slabs {
     static constexpr Index kMaxFaces = 32;
     std::vector<Slab> per_node;
+    std::vector<Slab> per_face; // in the tree's order (ordered_faces())
+    std::vector<Index> parent;  // per node; kInvalidIndex for the root
+    std::vector<Index> leaf_of; // per face of the mesh; kInvalidIndex for a face the tree does not hold
   };
   [[nodiscard]] Slabs slabs() const;
 
-  /// closest_point(p, max_distance, beyond), passing over the nodes whose slab lies beyond the best
-  /// found: the same result. `slabs` must be this tree's.
+  /// closest_point(p, max_distance), passing over the nodes and faces whose slab lies beyond the best
+  /// found: the same distance. Given `near_face` (a face near p: the closest of a point nearby), the
+  /// search starts at its leaf and climbs, opening each sibling on the way: the nodes near the top,
+  /// whose boxes hold p's ball, are then passed without a test. `slabs` must be this tree's. Of two
+  /// faces equally near, either may be reported.
   [[nodiscard]] std::optional<ClosestPoint> closest_point(const Vec3& p, double max_distance, const Slabs& slabs,
-                                                          const std::function<bool(Index, double)>& beyond) const;
+                                                          Index near_face = kInvalidIndex) const;
 
   /// First intersection of the ray origin + t*direction, t in [t_min, t_max].
   [[nodiscard]] std::optional<RayHit> first_hit(const Vec3& origin, const Vec3& direction, double t_min = 0.0,
@@ -196,9 +200,10 @@ private:
   [[nodiscard]] double plane_margin() const;
   /// Appends the subtree over faces_[begin, end) (their Morton codes sorted in `codes`); returns its root.
   Index build(const std::vector<std::uint64_t>& codes, Index begin, Index end);
-  /// closest_point's search, passing over the triangles `beyond` rules out. Defined in aabb_tree.cpp.
-  template <class Beyond> std::optional<ClosestPoint> nearest(const Vec3& p, double max_distance, const Beyond& beyond,
-                                                              const Slabs* slabs) const;
+  /// closest_point's search, over the slabs when given, from near_face's leaf up when it is one of the
+  /// tree's (and there are slabs). Defined in aabb_tree.cpp.
+  [[nodiscard]] std::optional<ClosestPoint> nearest(const Vec3& p, double max_distance, const Slabs* slabs,
+                                                    Index near_face) const;
   /// Calls leaf(face) for the triangles in the nodes whose boxes, grown by `pad`, the ray meets for t
   /// in [t_min, t_max] (t_max read at every node: a leaf may shorten it), until leaf returns true;
   /// returns whether it did. Defined in aabb_tree.cpp, used there only.
