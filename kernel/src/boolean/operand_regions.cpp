@@ -89,8 +89,8 @@ std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<Orient
     const Triangle& t = mesh.triangles[f];
     const BoundingBox box = triangle_box(mesh, f);
     const std::array<Vec3, 3> corners = {mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]};
-    for (const OrientedBox& b : boxes)
-      if (box.overlaps(b.world.inflated(margin)) && b.overlaps(corners, margin)) {
+    for (std::size_t i = 0; i < boxes.size(); ++i)
+      if (box.overlaps(grown[i]) && boxes[i].overlaps(corners, margin)) {
         out.push_back(f);
         break;
       }
