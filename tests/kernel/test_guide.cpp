@@ -13,11 +13,13 @@
 #include "st/guide/sleeve.h"
 #include "st/design/template_design.h"
 #include "st/boolean/triangle_intersection.h"
+#include "guide/guide_pieces.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <set>
 
 namespace st {
@@ -399,6 +401,65 @@ TEST_F(Bump, BadTubeNumbersAreRefusedByName) {
   TubeSpec negative = t;
   negative.offset = -1.0;
   refused(negative, "offset");
+}
+
+// The tubes' rays read only the template faces faces_around lists for them: every face with a point
+// in the cylinder they sweep (the tube's outer radius about its axis stretch) must be listed. Each face is sampled at
+// its corners, edge midpoints and 12 inner points, on a sphere, a wavy grid and a flat one, for tubes tilted at random,
+// along the axes, with entries on vertices and at random, thin and thick.
+TEST(GuideFaces, EveryFaceNearATubesAxisStretchIsListedForItsRays) {
+  std::vector<TriangleMesh> meshes;
+  meshes.push_back(test::make_icosphere(20.0, 4));
+  meshes.push_back(test::make_grid_patch(60, -30.0, 30.0, -30.0, 30.0, [](double u, double v) {
+    return Vec3(u, v, 3.0 * std::sin(0.3 * u) * std::cos(0.2 * v));
+  }));
+  meshes.push_back(
+      test::make_grid_patch(40, -30.0, 30.0, -30.0, 30.0, [](double u, double v) { return Vec3(u, v, 0.0); }));
+  std::mt19937 random(13);
+  auto uniform = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(random); };
+  const GuideOptions options;
+  std::size_t near_checked = 0;
+  for (const TriangleMesh& mesh : meshes) {
+    std::vector<TubeSpec> tubes;
+    for (int k = 0; k < 12; ++k) {
+      TubeSpec t;
+      t.name = "t" + std::to_string(k);
+      const Vec3 on = mesh.positions[std::uniform_int_distribution<Index>(0, mesh.vertex_count() - 1)(random)];
+      t.entry = k % 3 == 0 ? on : Vec3(on + Vec3(uniform(-2.0, 2.0), uniform(-2.0, 2.0), uniform(-2.0, 2.0)));
+      const Vec3 axes[] = {-Vec3::UnitZ(), Vec3::UnitX(), -Vec3::UnitY()};
+      t.direction =
+          k % 4 == 1 ? axes[k % 3] : Vec3(uniform(-1.0, 1.0), uniform(-1.0, 1.0), uniform(-1.0, -0.2)).normalized();
+      t.inner_radius = uniform(0.5, 1.5);
+      t.outer_radius = t.inner_radius + uniform(0.5, 2.5);
+      t.length = uniform(4.0, 12.0);
+      t.offset = uniform(0.0, 3.0);
+      tubes.push_back(t);
+    }
+    const std::vector<std::vector<Index>> around = guide_detail::faces_around(mesh, tubes, options);
+    ASSERT_EQ(around.size(), tubes.size());
+    for (std::size_t i = 0; i < tubes.size(); ++i) {
+      const TubeSpec& t = tubes[i];
+      const std::set<Index> listed(around[i].begin(), around[i].end());
+      const guide_detail::AxisStretch s = guide_detail::axis_stretch(t, options);
+      const Vec3 a = tube_point(t, s.start + s.above), b = tube_point(t, s.start - s.reach);
+      auto near_axis = [&](const Vec3& p) { // in the cylinder the rays sweep
+        const double u = (p - a).dot(b - a) / (b - a).squaredNorm();
+        return u >= 0.0 && u <= 1.0 && (p - (a + u * (b - a))).norm() <= t.outer_radius;
+      };
+      for (Index f = 0; f < mesh.face_count(); ++f) {
+        const Triangle& tri = mesh.triangles[f];
+        const Vec3 &p0 = mesh.positions[tri[0]], &p1 = mesh.positions[tri[1]], &p2 = mesh.positions[tri[2]];
+        bool near = false;
+        for (int u = 0; u <= 4 && !near; ++u)
+          for (int v = 0; u + v <= 4 && !near; ++v) near = near_axis(p0 + 0.25 * u * (p1 - p0) + 0.25 * v * (p2 - p0));
+        if (!near) continue;
+        ++near_checked;
+        EXPECT_TRUE(listed.count(f)) << "tube " << t.name << " misses face " << f;
+      }
+      EXPECT_LT(listed.size(), mesh.face_count()) << "tube " << t.name << ": a filter that keeps every face";
+    }
+  }
+  EXPECT_GT(near_checked, 1000U);
 }
 
 } // namespace

@@ -1,6 +1,10 @@
 #include "guide/guide_pieces.h"
 
 #include "detail/format.h"
+#include "st/core/mesh.h"
+#include "st/guide/sleeve.h"
+
+#include <algorithm>
 #include "st/core/union_find.h"
 
 namespace st::guide_detail {
@@ -89,6 +93,59 @@ std::size_t drop_fragments(TriangleMesh& mesh, std::vector<std::uint8_t>& from_t
   mesh = submesh(mesh, kept);
   from_tube = std::move(tube_faces);
   return pieces - 1;
+}
+
+AxisStretch axis_stretch(const TubeSpec& tube, const GuideOptions& options) {
+  AxisStretch s;
+  // Rays start above the sleeve and look for the template as far below the entry as the sleeve is
+  // wide (steep bone) plus a margin.
+  s.start = tube.offset + tube.length + options.bore_margin;
+  s.reach = s.start + 3.0 * tube.outer_radius + 20.0;
+  s.above = 3.0 * tube.outer_radius + 20.0;
+  return s;
+}
+
+std::vector<std::vector<Index>> faces_around(const TriangleMesh& mesh, const std::vector<TubeSpec>& tubes,
+                                             const GuideOptions& options) {
+  struct Reach {
+    Vec3 a, ab;
+    double length2, radius;
+    BoundingBox box;
+  };
+  std::vector<Reach> reaches;
+  std::vector<FramedBox> prisms;
+  for (const TubeSpec& tube : tubes) {
+    const AxisStretch s = axis_stretch(tube, options);
+    const Vec3 a = tube_point(tube, s.start + s.above), b = tube_point(tube, s.start - s.reach);
+    BoundingBox box;
+    box.extend(a);
+    box.extend(b);
+    reaches.push_back({a, b - a, (b - a).squaredNorm(), tube.outer_radius, box.inflated(tube.outer_radius)});
+    FramedBox prism;
+    Vec3 u, v;
+    const Vec3 axis = tube_axis(tube);
+    orthonormal_frame(axis, u, v);
+    prism.axes << u.transpose(), v.transpose(), axis.transpose();
+    prism.centre = 0.5 * (a + b);
+    // Grown far beyond the rounding of a corner's coordinates in the frame.
+    const double grown = 1e-9 * (1.0 + prism.centre.cwiseAbs().maxCoeff() + (b - a).norm() + tube.outer_radius);
+    prism.half = Vec3(tube.outer_radius, tube.outer_radius, 0.5 * (b - a).norm()) + Vec3::Constant(grown);
+    prisms.push_back(prism);
+  }
+  std::vector<std::vector<Index>> faces(tubes.size());
+  for (Index f : faces_near_framed_boxes(mesh, prisms)) {
+    const BoundingBox fb = triangle_box(mesh, f);
+    const Vec3 c = fb.center();
+    const double half = 0.5 * fb.size().norm();
+    for (std::size_t i = 0; i < reaches.size(); ++i) {
+      const Reach& r = reaches[i];
+      if (!fb.overlaps(r.box)) continue;
+      const double t = r.length2 > 0.0 ? std::clamp((c - r.a).dot(r.ab) / r.length2, 0.0, 1.0) : 0.0;
+      const double reach = r.radius + half;
+      if ((c - (r.a + t * r.ab)).squaredNorm() <= reach * reach) faces[i].push_back(f);
+    }
+  }
+  return faces;
 }
 
 } // namespace st::guide_detail
