@@ -74,7 +74,7 @@ TEST(AabbTree, ClosestPointsEqualBruteForceFarFromTheOrigin) {
   }
 }
 
-// The slab bounds only pass over nodes: the closest points over them are the brute force's, for
+// The slab bounds only pass over nodes and faces: the closest points over them are the brute force's, for
 // points off the surface along its normals (where the slabs open few nodes), random points, points
 // on vertices, on a wavy grid, a flat one (slabs of no thickness), a sphere and a real scan.
 TEST(AabbTree, ClosestPointsOverSlabsEqualBruteForce) {
@@ -114,23 +114,44 @@ TEST(AabbTree, ClosestPointsOverSlabsEqualBruteForce) {
       EXPECT_EQ(bounded->distance, best);
     }
   }
-  // A tree over some of the faces starts from the top for a face it does not hold.
+  // A tree over some of the faces: each of its faces has a leaf from which the parents lead to the
+  // root, the others none; searches from any face, held or not, give the brute force over its faces.
   const TriangleMesh& sphere = all[0];
   std::vector<Index> half;
   for (Index f = 0; f < sphere.face_count(); f += 2) half.push_back(f);
   const AabbTree part(sphere, half);
   const AabbTree::Slabs part_slabs = part.slabs();
+  for (Index f = 0; f < sphere.face_count(); ++f) {
+    Index node = part_slabs.leaf_of[f], depth = 0;
+    ASSERT_EQ(node == kInvalidIndex, f % 2 == 1) << "face " << f;
+    while (node != kInvalidIndex && node != 0 && depth++ < 64) node = part_slabs.parent[node];
+    if (f % 2 == 0) EXPECT_EQ(node, 0U) << "face " << f << ": its leaf does not lead to the root";
+  }
   for (const Vec3& p : probes(sphere, 50, 3)) {
     const auto top = part.closest_point(p, std::numeric_limits<double>::infinity(), part_slabs);
     ASSERT_TRUE(top.has_value());
+    double best = std::numeric_limits<double>::infinity();
+    for (const Index f : half) {
+      const Triangle& t = sphere.triangles[f];
+      best = std::min(
+          best,
+          (closest_point_on_triangle(p, sphere.positions[t[0]], sphere.positions[t[1]], sphere.positions[t[2]]) - p)
+              .norm());
+    }
+    EXPECT_EQ(top->distance, best);
     for (const Index start : {Index{0}, Index{1}, sphere.face_count() - 1, sphere.face_count() + 7})
       EXPECT_EQ(part.closest_point(p, std::numeric_limits<double>::infinity(), part_slabs, start)->distance,
                 top->distance);
     EXPECT_EQ(top->face % 2, 0U);
   }
-  // A tree keeps a reference to its mesh: `all` outlives both trees.
+  // A tree keeps a reference to its mesh: `all` outlives the trees. Slabs of another tree are refused,
+  // even of a tree over as many faces of the same mesh.
   const AabbTree other(all[0]);
   EXPECT_THROW((void)AabbTree(all[1]).closest_point(Vec3::Zero(), 1.0, other.slabs()), std::logic_error);
+  std::vector<Index> odd;
+  for (Index f = 1; f < sphere.face_count(); f += 2) odd.push_back(f);
+  const AabbTree odd_part(sphere, odd);
+  EXPECT_THROW((void)odd_part.closest_point(Vec3::Zero(), 1.0, part_slabs), std::logic_error);
 }
 
 TEST(AabbTree, FirstHitsAndBoxesEqualBruteForceFarFromTheOrigin) {

@@ -404,9 +404,10 @@ TEST_F(Bump, BadTubeNumbersAreRefusedByName) {
 }
 
 // The tubes' rays read only the template faces faces_around lists for them: every face with a point
-// in the cylinder they sweep (the tube's outer radius about its axis stretch) must be listed. Each face is sampled at
-// its corners, edge midpoints and 12 inner points, on a sphere, a wavy grid and a flat one, for tubes tilted at random,
-// along the axes, with entries on vertices and at random, thin and thick.
+// in the cylinder they sweep (the tube's outer radius about its axis stretch) must be listed. Each face
+// is sampled at 15 points (its corners, 9 more on its edges, 3 inside; a face that only grazes the
+// cylinder between them is not asked about), on a sphere, a wavy grid and a flat one, for tubes tilted
+// at random, along the axes, with entries on vertices and at random, thin and thick.
 TEST(GuideFaces, EveryFaceNearATubesAxisStretchIsListedForItsRays) {
   std::vector<TriangleMesh> meshes;
   meshes.push_back(test::make_icosphere(20.0, 4));

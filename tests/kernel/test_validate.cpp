@@ -136,6 +136,11 @@ TEST(DistancesToSurface, NearVerticesGiveTheSameDistances) {
   EXPECT_THROW(distances_to_surface(sphere.positions, sphere, std::vector<Index>{0, 1}), InvalidInput);
   std::vector<Index> beyond(sphere.vertex_count(), sphere.vertex_count());
   EXPECT_THROW(distances_to_surface(sphere.positions, sphere, beyond), InvalidInput);
+  // A surface none of whose faces has finite corners has no distance to give: refused, by name.
+  TriangleMesh unreadable = sphere;
+  for (Vec3& q : unreadable.positions) q.x() = std::numeric_limits<double>::quiet_NaN();
+  const std::string message = test::invalid_input_of([&] { (void)distances_to_surface({Vec3::Zero()}, unreadable); });
+  EXPECT_NE(message.find("finite corners"), std::string::npos) << message;
 }
 
 // The points are searched in space-filling-curve order and each search is bounded by the previous

@@ -154,7 +154,7 @@ AabbTree::Slab slab_of(const TriangleMesh& mesh, std::span<const Index> faces, c
     const Triangle& t = mesh.triangles[f];
     sum += (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
   }
-  const double length = sum.norm();
+  const double length = sum.stableNorm(); // a unit normal even where the squares would underflow
   if (!(length > 0.0) || !std::isfinite(length)) return slab;
   slab.normal = sum / length;
   slab.centre = centre;
@@ -162,14 +162,15 @@ AabbTree::Slab slab_of(const TriangleMesh& mesh, std::span<const Index> faces, c
   for (const Index f : faces)
     for (const Index v : mesh.triangles[f]) {
       const Vec3 d = mesh.positions[v] - centre;
-      const double h = slab.normal.dot(d);
+      const double h = slab.normal.dot(d), across2 = d.squaredNorm() - h * h;
+      if (!std::isfinite(h) || !std::isfinite(across2)) return AabbTree::Slab{}; // overflow: the box bounds them
       height = std::max(height, std::abs(h));
-      radius2 = std::max(radius2, d.squaredNorm() - h * h);
+      radius2 = std::max(radius2, across2);
     }
   // Grown a little so that rounding never puts a corner outside it.
   slab.half_thickness = height * (1.0 + 1e-9) + 1e-12;
   slab.radius = std::sqrt(std::max(radius2, 0.0)) * (1.0 + 1e-9) + 1e-12;
-  slab.valid = true;
+  slab.valid = std::isfinite(slab.half_thickness) && std::isfinite(slab.radius);
   return slab;
 }
 
@@ -177,6 +178,7 @@ AabbTree::Slab slab_of(const TriangleMesh& mesh, std::span<const Index> faces, c
 
 AabbTree::Slabs AabbTree::slabs() const {
   Slabs out;
+  out.tree = this;
   out.per_node.resize(nodes_.size());
   out.parent.assign(nodes_.size(), kInvalidIndex);
   out.per_face.resize(faces_.size());
@@ -282,8 +284,7 @@ std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_di
 
 std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_distance, const Slabs& slabs,
                                                     Index near_face) const {
-  if (slabs.per_node.size() != nodes_.size() || slabs.per_face.size() != faces_.size() ||
-      slabs.leaf_of.size() != mesh_.face_count())
+  if (slabs.tree != this || slabs.per_node.size() != nodes_.size())
     throw std::logic_error("AabbTree: slabs of another tree");
   return nearest(p, max_distance, &slabs, near_face);
 }

@@ -301,6 +301,7 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
     detail::sort_by_code(order);
   }
   std::vector<double> distance(n);
+  std::atomic<bool> unreachable{false};
   constexpr std::size_t kGrain = 1024;
   detail::parallel_for(n, kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
     // The previous point's closest point lies on the surface: its distance bounds this one's, so the
@@ -322,10 +323,15 @@ DistanceStats distances_to_surface(const std::vector<Vec3>& points, const Triang
       std::optional<ClosestPoint> near;
       if (std::isfinite(bound)) near = tree.closest_point(p, bound * (1.0 + 1e-9), slabs, start);
       if (!near) near = tree.closest_point(p, std::numeric_limits<double>::infinity(), slabs, start);
+      if (!near) { // every face has a corner that is not a number (thrown below, not on a worker thread)
+        unreachable = true;
+        return;
+      }
       last = near;
       distance[i] = near->distance;
     }
   });
+  if (unreachable) throw InvalidInput("distances to a surface: no face of the surface has finite corners");
   s.min = std::numeric_limits<double>::infinity();
   double sum = 0.0;
   for (std::size_t begin = 0; begin < n; begin += kGrain) {

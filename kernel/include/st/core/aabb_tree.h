@@ -33,7 +33,8 @@ struct RayHit {
 
 class AabbTree {
 public:
-  /// Tree over all triangles of `mesh`, or only over `faces` when given. Keeps a reference to mesh.
+  /// Tree over all triangles of `mesh`, or only over `faces` (distinct) when given. Keeps a reference
+  /// to mesh.
   explicit AabbTree(const TriangleMesh& mesh, std::vector<Index> faces = {});
   /// A tree over a temporary mesh would outlive it.
   AabbTree(TriangleMesh&&, std::vector<Index> = {}) = delete;
@@ -62,7 +63,7 @@ public:
     Vec3 normal = Vec3::Zero(); // unit
     double half_thickness = 0.0;
     double radius = 0.0;
-    bool valid = false; // a node too large, or whose normals cancel: its box alone bounds it
+    bool valid = false; // none (a node too large, normals that cancel, coordinates that overflow): never beyond
     /// Whether every point of the slab lies farther than sqrt(best) from p (less a margin for rounding).
     [[nodiscard]] bool beyond(const Vec3& p, double best) const {
       if (!valid) return false;
@@ -79,6 +80,7 @@ public:
   /// meets dozens of faces in the leaves it opens, and the discs rule out all but those right under it).
   struct Slabs {
     static constexpr Index kMaxFaces = 32;
+    const AabbTree* tree = nullptr; // the tree they were made for
     std::vector<Slab> per_node;
     std::vector<Slab> per_face; // in the tree's order (ordered_faces())
     std::vector<Index> parent;  // per node; kInvalidIndex for the root
