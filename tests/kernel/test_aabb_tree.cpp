@@ -47,6 +47,20 @@ std::vector<TriangleMesh> meshes_and_flat() {
   return all;
 }
 
+// The distance from p to the nearest of `faces` of `mesh` (all of them when empty), triangle by triangle.
+double brute_distance(const TriangleMesh& mesh, std::span<const Index> faces, const Vec3& p) {
+  double best = std::numeric_limits<double>::infinity();
+  const auto meet = [&](const Triangle& t) {
+    best = std::min(
+        best,
+        (closest_point_on_triangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]) - p).norm());
+  };
+  if (faces.empty())
+    for (const Triangle& t : mesh.triangles) meet(t);
+  for (const Index f : faces) meet(mesh.triangles[f]);
+  return best;
+}
+
 std::vector<Vec3> probes(const TriangleMesh& mesh, int count, unsigned seed) {
   std::mt19937 rng(seed);
   const BoundingBox box = bounding_box(mesh).inflated(0.5);
@@ -62,11 +76,7 @@ TEST(AabbTree, ClosestPointsEqualBruteForceFarFromTheOrigin) {
   for (const TriangleMesh& mesh : meshes()) {
     const AabbTree tree(mesh);
     for (const Vec3& p : probes(mesh, 300, 7)) {
-      double best = std::numeric_limits<double>::infinity();
-      for (const Triangle& t : mesh.triangles)
-        best = std::min(
-            best, (closest_point_on_triangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]) - p)
-                      .norm());
+      const double best = brute_distance(mesh, {}, p);
       const std::optional<ClosestPoint> found = tree.closest_point(p);
       ASSERT_TRUE(found.has_value());
       EXPECT_EQ(found->distance, best) << "at (" << p.transpose() << ")";
@@ -96,11 +106,7 @@ TEST(AabbTree, ClosestPointsOverSlabsEqualBruteForce) {
     Index previous = kInvalidIndex;
     std::mt19937 random(5);
     for (const Vec3& p : points) {
-      double best = std::numeric_limits<double>::infinity();
-      for (const Triangle& t : mesh.triangles)
-        best = std::min(
-            best, (closest_point_on_triangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]) - p)
-                      .norm());
+      const double best = brute_distance(mesh, {}, p);
       const Index anywhere = std::uniform_int_distribution<Index>(0, mesh.face_count() - 1)(random);
       for (const Index start : {kInvalidIndex, previous, anywhere}) {
         const auto found = tree.closest_point(p, std::numeric_limits<double>::infinity(), slabs, start);
@@ -130,14 +136,7 @@ TEST(AabbTree, ClosestPointsOverSlabsEqualBruteForce) {
   for (const Vec3& p : probes(sphere, 50, 3)) {
     const auto top = part.closest_point(p, std::numeric_limits<double>::infinity(), part_slabs);
     ASSERT_TRUE(top.has_value());
-    double best = std::numeric_limits<double>::infinity();
-    for (const Index f : half) {
-      const Triangle& t = sphere.triangles[f];
-      best = std::min(
-          best,
-          (closest_point_on_triangle(p, sphere.positions[t[0]], sphere.positions[t[1]], sphere.positions[t[2]]) - p)
-              .norm());
-    }
+    const double best = brute_distance(sphere, half, p);
     EXPECT_EQ(top->distance, best);
     for (const Index start : {Index{0}, Index{1}, sphere.face_count() - 1, sphere.face_count() + 7})
       EXPECT_EQ(part.closest_point(p, std::numeric_limits<double>::infinity(), part_slabs, start)->distance,

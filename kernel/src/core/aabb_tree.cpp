@@ -167,10 +167,11 @@ AabbTree::Slab slab_of(const TriangleMesh& mesh, std::span<const Index> faces, c
       height = std::max(height, std::abs(h));
       radius2 = std::max(radius2, across2);
     }
-  // Grown a little so that rounding never puts a corner outside it.
+  // Grown a little so that rounding never puts a corner outside it. Growing finite numbers overflows
+  // at most to infinity, a slab that never passes over anything.
   slab.half_thickness = height * (1.0 + 1e-9) + 1e-12;
   slab.radius = std::sqrt(std::max(radius2, 0.0)) * (1.0 + 1e-9) + 1e-12;
-  slab.valid = std::isfinite(slab.half_thickness) && std::isfinite(slab.radius);
+  slab.valid = true;
   return slab;
 }
 
@@ -284,8 +285,7 @@ std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_di
 
 std::optional<ClosestPoint> AabbTree::closest_point(const Vec3& p, double max_distance, const Slabs& slabs,
                                                     Index near_face) const {
-  if (slabs.tree != this || slabs.per_node.size() != nodes_.size())
-    throw std::logic_error("AabbTree: slabs of another tree");
+  if (slabs.tree != this) throw std::logic_error("AabbTree: slabs of another tree");
   return nearest(p, max_distance, &slabs, near_face);
 }
 
