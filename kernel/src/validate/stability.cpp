@@ -470,14 +470,7 @@ public:
     if (topology && &topology->mesh() != &mesh) throw InvalidInput("stability: the topology is not the bone's");
   }
   const Vec3& operator()(Index v) {
-    if (normals_.empty()) {
-      if (!topology_) {
-        normals_ = vertex_normals(mesh_);
-      } else {
-        normals_.resize(mesh_.vertex_count());
-        made_.assign(mesh_.vertex_count(), 0);
-      }
-    }
+    start();
     if (topology_ && !made_[v]) {
       normals_[v] = topology_->vertex_normal(v);
       made_[v] = 1;
@@ -489,14 +482,8 @@ public:
   /// scan). The same normals, bit for bit: each face's normal added to its corners in the order of the
   /// faces, as MeshTopology::vertex_normal adds those around a vertex, then divided by the length.
   void make_in(const BoundingBox& box) {
-    if (!topology_) {
-      if (normals_.empty()) normals_ = vertex_normals(mesh_);
-      return;
-    }
-    if (normals_.empty()) {
-      normals_.resize(mesh_.vertex_count());
-      made_.assign(mesh_.vertex_count(), 0);
-    }
+    start();
+    if (!topology_) return; // all made
     std::vector<std::uint8_t> wanted(mesh_.vertex_count(), 0);
     bool any = false;
     for (Index v = 0; v < mesh_.vertex_count(); ++v)
@@ -521,6 +508,17 @@ public:
   }
 
 private:
+  /// On first use: every normal without a topology, else room for those made one by one.
+  void start() {
+    if (!normals_.empty()) return;
+    if (!topology_) {
+      normals_ = vertex_normals(mesh_);
+    } else {
+      normals_.resize(mesh_.vertex_count());
+      made_.assign(mesh_.vertex_count(), 0);
+    }
+  }
+
   const TriangleMesh& mesh_;
   const MeshTopology* topology_;
   std::vector<Vec3> normals_;
