@@ -6,6 +6,8 @@
 
 #include "st/core/aabb_tree.h"
 #include "st/core/float32.h"
+#include "st/core/predicates.h"
+#include "st/boolean/triangle_intersection.h"
 #include "st/design/insertion.h"
 #include "st/design/template_design.h"
 #include "st/io/case_file.h"
@@ -16,6 +18,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <vector>
 
 namespace st {
@@ -405,6 +408,115 @@ TEST(Removal, AGuideMeetsABarItsEdgesPassWithNoCornerOnIt) {
     const AabbTree tree(bar);
     EXPECT_TRUE(check_removal(tree, guide, Vec3(0, 0, -1)).removable) << "bar at y " << bar.positions[2].y();
   }
+}
+
+/// Whether the segment [p, q] crosses the closed triangle (a, b, c), its ends strictly on either side.
+bool segment_crosses(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const int sp = orient3d(a, b, c, p), sq = orient3d(a, b, c, q);
+  if (sp == 0 || sq == 0 || sp == sq) return false;
+  const int s1 = orient3d(p, q, a, b), s2 = orient3d(p, q, b, c), s3 = orient3d(p, q, c, a);
+  return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
+}
+
+/// What a guide moved by t * w, t in (0, L], meets of a piece, by every feature pair (no cull, no
+/// boundary argument): each guide vertex's path against the piece's faces, each piece vertex's path
+/// back against the guide's faces, each guide edge's parallelogram against the piece's edges. Counts
+/// the guide vertices whose path meets the piece where the guide's surface faces one way all round
+/// (`one_way`: no part of the boundary of the solid it sweeps).
+struct Swept {
+  bool meets = false;
+  int one_way_paths = 0;
+};
+Swept sweep_by_every_pair(const TriangleMesh& guide, const std::vector<bool>& one_way, const TriangleMesh& piece,
+                          const Vec3& w, double L) {
+  Swept r;
+  for (Index v = 0; v < guide.vertex_count(); ++v) {
+    const Vec3 &p = guide.positions[v], q = p + L * w;
+    for (const Triangle& t : piece.triangles)
+      if (segment_crosses(p, q, piece.positions[t[0]], piece.positions[t[1]], piece.positions[t[2]])) {
+        r.meets = true;
+        r.one_way_paths += one_way[v] ? 1 : 0;
+        break;
+      }
+  }
+  for (const Vec3& b : piece.positions)
+    for (const Triangle& t : guide.triangles)
+      r.meets =
+          r.meets || segment_crosses(b, b - L * w, guide.positions[t[0]], guide.positions[t[1]], guide.positions[t[2]]);
+  for (const Triangle& g : guide.triangles)
+    for (int k = 0; k < 3 && !r.meets; ++k) {
+      const Vec3 &g0 = guide.positions[g[k]], &g1 = guide.positions[g[(k + 1) % 3]];
+      for (const Triangle& t : piece.triangles)
+        for (int e = 0; e < 3; ++e) {
+          const Vec3 &b0 = piece.positions[t[e]], &b1 = piece.positions[t[(e + 1) % 3]];
+          r.meets = r.meets || segment_crosses(b0, b1, g0, g1, g1 + L * w) ||
+                    segment_crosses(b0, b1, g0, g1 + L * w, g0 + L * w);
+        }
+    }
+  return r;
+}
+
+TEST(Removal, OnlyTheSweptBoundarysPathsAreNeededPiecesAroundABumpyGuide) {
+  // A closed bumpy ball (its surface turns from facing the way off to facing back along a wavy
+  // silhouette and around its bumps) moved off along a slanted way past small tetrahedra strewn
+  // around and above it: the check, which follows only the paths of the vertices where the surface
+  // turns, blocks on exactly the pieces that some pair of features meets. Pieces that meet the ball
+  // at rest are left out (the guide rests on the bone, never in it).
+  TriangleMesh guide = test::make_icosphere(1.0, 3);
+  for (Vec3& p : guide.positions)
+    p *= 5.0 + 0.5 * std::sin(3.0 * p.x() + 1.0) * std::cos(2.0 * p.y()) + 0.3 * std::sin(4.0 * p.z());
+  test::expect_valid_solid(guide);
+  const Vec3 d = Vec3(0.3, -0.2, -1.0).normalized(), w = -d;
+  const double L = 20.0;
+  std::vector<bool> one_way(guide.vertex_count(), true); // every face around it on one side of w
+  {
+    std::vector<int> sides(guide.vertex_count(), 0);
+    for (Index f = 0; f < guide.face_count(); ++f)
+      for (Index v : guide.triangles[f]) sides[v] |= triangle_normal(guide, f).dot(w) > 0.0 ? 1 : 2;
+    for (Index v = 0; v < guide.vertex_count(); ++v) one_way[v] = sides[v] != 3;
+  }
+  Vec3 highest = guide.positions[0];
+  for (const Vec3& p : guide.positions)
+    if (p.dot(w) > highest.dot(w)) highest = p;
+  std::mt19937_64 rng(20261207);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int blocked = 0, free = 0, behind_one_way = 0;
+  for (int trial = 0; trial < 160; ++trial) {
+    // About the column the ball sweeps, from below its start to beyond its end.
+    const Vec3 centre = 7.0 * Vec3(unit(rng), unit(rng), unit(rng)) + (10.5 + 13.5 * unit(rng)) * w;
+    TriangleMesh piece;
+    const double size = 0.6 + 0.5 * unit(rng);
+    // Every other piece a sliver 6 times as long as it is wide, which passes between the corners.
+    const Vec3 along = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+    for (int k = 0; k < 4; ++k) {
+      const Vec3 x = size * Vec3(unit(rng), unit(rng), unit(rng));
+      piece.positions.push_back(centre + x + (trial % 2 ? 5.0 * x.dot(along) : 0.0) * along);
+    }
+    piece.triangles = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}};
+    if (trial % 16 == 0) { // a sliver through the ball's top at the end of the way, its corners beyond
+      const Vec3 across = w.cross(along).normalized(), top = highest + (L - 0.05) * w;
+      piece.positions = {top - 1.6 * across, top + 1.6 * across + 0.02 * along, top + 1.6 * across - 0.02 * along,
+                         top + 0.15 * w};
+    }
+    if (orient3d(piece.positions[0], piece.positions[1], piece.positions[2], piece.positions[3]) == 0) continue;
+    if (orient3d(piece.positions[0], piece.positions[1], piece.positions[2], piece.positions[3]) > 0)
+      for (Triangle& t : piece.triangles) std::swap(t[1], t[2]);
+    bool at_rest = false;
+    for (const Triangle& g : guide.triangles)
+      for (const Triangle& t : piece.triangles)
+        at_rest = at_rest || triangles_intersect(guide.positions[g[0]], guide.positions[g[1]], guide.positions[g[2]],
+                                                 piece.positions[t[0]], piece.positions[t[1]], piece.positions[t[2]]);
+    if (at_rest || test::winding_number(guide, centre) > 0.5) continue;
+    const Swept expected = sweep_by_every_pair(guide, one_way, piece, w, L);
+    const RemovalReport r = check_removal(AabbTree(piece), guide, d, L);
+    EXPECT_EQ(r.removable, !expected.meets) << "piece " << trial << " about " << centre.transpose();
+    (expected.meets ? blocked : free) += 1;
+    behind_one_way += expected.one_way_paths > 0 ? 1 : 0;
+  }
+  // Both verdicts, and paths the check does not follow that meet a piece, come up often.
+  EXPECT_GT(blocked, 20);
+  EXPECT_GT(free, 20);
+  EXPECT_GT(behind_one_way, 10);
 }
 
 } // namespace

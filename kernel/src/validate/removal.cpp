@@ -149,13 +149,12 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
   }
   auto bone_corner = [&](Index f, int k) -> const Vec3& { return shrunk(bmesh.triangles[f][k]); };
 
-  // Box culling, in the frame of the way off (sweep_columns.h): a guide face whose box, swept by L off
-  // the bone and grown by the lifts, meets no box of a bone face cannot meet the bone on the way off,
-  // nor can its corners and edges (their paths lie in that box; an edge's in the swept box of each of
-  // its two faces). Only the corners and edges of the faces that pass are tested exactly, and only bone
-  // faces whose boxes, swept by L towards the guide, meet a guide face's box give bone vertices to
-  // test. The bone's faces that can meet the guide at all are those in the box it sweeps (grown); the
-  // guide's vertex paths read them by their columns along the way.
+  // Box culling: a guide face whose box, swept by L off the bone and grown by the lifts, meets no box of
+  // a bone face cannot meet the bone on the way off, nor can its corners and edges (their paths lie in
+  // that box; an edge's in the swept box of each of its two faces). Only the corners and edges of the
+  // faces that pass are tested exactly, and only bone faces whose boxes, swept by L towards the guide,
+  // meet a guide face's box give bone vertices to test. The bone's faces that can meet the guide at all
+  // are those in the box it sweeps (grown).
   const double pad = 4.0 * lift;
   auto swept = [&](BoundingBox b, const Vec3& by) {
     b.extend(b.min + by);
@@ -167,14 +166,41 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
   reach.extend(gbox.max + L * w);
   std::vector<Index> near_faces;
   bone.for_each_in_box(reach.inflated(1.0 + pad), [&](Index f) { near_faces.push_back(f); });
+  // Of a guide moving as a whole, only the paths of the vertices where its surface turns (kSilhouette)
+  // are edges of the boundary of the solid it sweeps (removal.h): the others, and the faces around
+  // none of them that the fourth family passes over, are not culled either. Those few paths and boxes
+  // read the bone's tree. Per face every vertex's path counts, most of them from a guide resting on
+  // the bone, whose tree boxes rise across the paths: they read the bone's faces in the box the guide
+  // sweeps by their columns along the way (sweep_columns.h).
+  const bool per_face = start == SweepStart::raised;
+  const std::vector<std::uint8_t> sweeps = per_face ? std::vector<std::uint8_t>{} : sweeping_vertices(guide, w);
+  const bool closed = std::none_of(sweeps.begin(), sweeps.end(), [](std::uint8_t v) { return (v & kOpen) != 0; });
+  auto at_end = [&](Index f) {
+    const Triangle& t = guide.triangles[f];
+    return std::array<Vec3, 3>{g_at[t[0]] + L * w, g_at[t[1]] + L * w, g_at[t[2]] + L * w};
+  };
+  auto passed_at_end = [&](const std::array<Vec3, 3>& p) { // a closed guide's face facing back
+    const Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]);
+    return closed && n.dot(w) < -kAcross * n.norm();
+  };
+  auto asked = [&](Index f) { // whether a family tests a corner, an edge or the face itself
+    if (per_face) return true;
+    const Triangle& t = guide.triangles[f];
+    return ((sweeps[t[0]] | sweeps[t[1]] | sweeps[t[2]]) & kSilhouette) || !passed_at_end(at_end(f));
+  };
   validate_detail::SweepColumns bone_columns(w);
-  bone_columns.build(bmesh, &near_faces, pad);
+  if (per_face) bone_columns.build(bmesh, &near_faces, pad);
   std::vector<std::uint8_t> near_guide(guide.face_count(), 0);
   detail::parallel_for(guide.face_count(), 1024, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f) {
-      validate_detail::FrameBox b = bone_columns.box_of(guide, static_cast<Index>(f));
-      b.hi[2] += L;
-      near_guide[f] = bone_columns.any_in(b) ? 1 : 0;
+      if (!asked(static_cast<Index>(f))) continue;
+      if (per_face) {
+        validate_detail::FrameBox b = bone_columns.box_of(guide, static_cast<Index>(f));
+        b.hi[2] += L;
+        near_guide[f] = bone_columns.any_in(b) ? 1 : 0;
+      } else {
+        near_guide[f] = bone.any_in_box(swept(triangle_box(guide, static_cast<Index>(f)), L * w)) ? 1 : 0;
+      }
     }
   });
   std::vector<Index> first_face(guide.vertex_count(), kInvalidIndex);
@@ -186,12 +212,16 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
   // 1. Guide vertices along -d against the bone.
   detail::parallel_for(guide.vertex_count(), 512, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      if (first_face[i] == kInvalidIndex) continue;
+      if (first_face[i] == kInvalidIndex || !(per_face || (sweeps[i] & kSilhouette))) continue;
       const Vec3 &p = g_at[i], q = p + L * w;
-      const Vec3 at = bone_columns.frame(p);
-      const bool hit = bone_columns.any_along(at[0], at[1], at[2], at[2] + L, [&](Index f) {
-        return crosses(p, q, bone_corner(f, 0), bone_corner(f, 1), bone_corner(f, 2));
-      });
+      auto crossed = [&](Index f) { return crosses(p, q, bone_corner(f, 0), bone_corner(f, 1), bone_corner(f, 2)); };
+      bool hit = false;
+      if (per_face) {
+        const Vec3 at = bone_columns.frame(p);
+        hit = bone_columns.any_along(at[0], at[1], at[2], at[2] + L, crossed);
+      } else {
+        hit = bone.any_along(p, w, L, 2.0 * lift, crossed);
+      }
       if (hit) collector.add({guide.positions[i], first_face[i]});
     }
   });
@@ -253,8 +283,6 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
   //    only for the edges where the guide's surface turns from facing the way off to facing back (see
   //    removal.h): an edge between two faces that both face the same way sweeps inside the solid.
   //    Per face (the block-out's question, SweepStart::raised) every edge counts.
-  const bool per_face = start == SweepStart::raised;
-  const std::vector<std::uint8_t> sweeps = per_face ? std::vector<std::uint8_t>{} : sweeping_vertices(guide, w);
   detail::parallel_for(guide.face_count(), 256, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f) {
       if (!near_guide[f]) continue;
@@ -304,15 +332,13 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
 
   // 4. The guide's faces at the end of the way against the bone (exact triangle tests): of a closed
   //    guide only those that face the way off or across it (the others lie inside what it swept).
-  const bool closed = std::none_of(sweeps.begin(), sweeps.end(), [](std::uint8_t v) { return (v & kOpen) != 0; });
   if (!per_face)
     detail::parallel_for(guide.face_count(), 512, [&](std::size_t, std::size_t begin, std::size_t end) {
       for (std::size_t f = begin; f < end; ++f) {
         if (!near_guide[f]) continue;
         const Triangle& t = guide.triangles[f];
-        const std::array<Vec3, 3> p{g_at[t[0]] + L * w, g_at[t[1]] + L * w, g_at[t[2]] + L * w};
-        const Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]);
-        if (closed && n.dot(w) < -kAcross * n.norm()) continue;
+        const std::array<Vec3, 3> p = at_end(static_cast<Index>(f));
+        if (passed_at_end(p)) continue;
         BoundingBox box;
         for (const Vec3& x : p) box.extend(x);
         bool meets = false;

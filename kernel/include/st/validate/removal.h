@@ -15,18 +15,23 @@
 // the way off to facing back (within 1e-6 rad; and every border edge) sweep the boundary of the solid it
 // sweeps; an edge between two faces facing the same way sweeps inside it, as the surface there is a
 // height field across the way. The boundary is then the guide at the start, the guide at the end of the
-// way (of a closed guide, its faces facing the way off) and those edges' parallelograms, so a fourth
-// family replaces the other edges: the guide's faces at the end of the way against the bone's triangles
-// (exact triangle-triangle tests). A bone triangle the guide sweeps over crosses that boundary (family 3
-// or 4, or a path of family 1) or lies inside (family 2). The block-out's per-face question
-// (SweepStart::raised) keeps every edge, so that each face answers for its own prism.
+// way (of a closed guide, its faces facing the way off), those edges' parallelograms and the paths of
+// their ends, so a fourth family replaces the other edges: the guide's faces at the end of the way
+// against the bone's triangles (exact triangle-triangle tests); and the first family keeps only the
+// vertices where the surface turns (a vertex with every face around it facing one way moves inside the
+// solid). A bone triangle the guide sweeps over crosses that boundary (family 3 or 4, or a path of
+// family 1) or lies inside (family 2). The block-out's per-face question (SweepStart::raised) keeps
+// every edge and every vertex, so that each face answers for its own prism.
 // Boxes cull before the tests: only the corners and edges of guide faces whose box, swept by L off
 // the bone (and grown by the lifts), meets a bone triangle's box; only bone vertices of faces whose box,
 // swept by L towards the guide, meets a guide triangle's box; and a bone edge only when its box meets
-// the box of the parallelogram. A culled feature's path lies outside every box it could meet. The
-// guide's faces and vertex paths read the bone's boxes in the frame of the way off, from a grid of
-// columns along it over the bone's faces in the box the guide sweeps: a path is then a point of the
-// plane across the way, and the bone's faces it can cross are those of one cell.
+// the box of the parallelogram. A culled feature's path lies outside every box it could meet. Per
+// face, the guide's faces and vertex paths read the bone's boxes in the frame of the way off, from a
+// grid of columns along it over the bone's faces in the box the guide sweeps: a path is then a point
+// of the plane across the way, and the bone's faces it can cross are those of one cell (most paths
+// start on the bone, where an axis-aligned tree's boxes rise across them). A guide moving as a whole
+// has few such paths, none from where it rests on the bone: they, and its faces' boxes, read the
+// bone's tree.
 // A segment crosses a triangle when its ends lie strictly on either side of the triangle's plane
 // (orient3d, not zero) and the line meets the closed triangle (three orient3d of one sign).
 // Contact is not blocking: the bone is first shrunk by a lift along its vertex normals (1 um, or
