@@ -362,9 +362,14 @@ TEST(Removal, ABonePreparedOnceAnswersLikeAFreshOneInAnyOrder) {
     }
   EXPECT_GT(blocked, 0); // the ledge holds some of them
   EXPECT_LT(blocked, 12);
-  // A topology of another mesh is refused.
+  // A topology of another mesh is refused, and so is a tree over another guide.
   const MeshTopology other(ledge);
   EXPECT_THROW(static_cast<void>(SweepTest(tree, &other)), InvalidInput);
+  const TriangleMesh guide = plate(0.0, 0.0), copy = guide;
+  const AabbTree copy_tree(copy);
+  EXPECT_THROW(static_cast<void>(sweep(guide, Vec3(0, 0, -1), 20.0, SweepStart::shrunk, &copy_tree)), InvalidInput);
+  EXPECT_EQ(sweep(copy, Vec3(0, 0, -1), 20.0, SweepStart::shrunk, &copy_tree).blocking,
+            check_removal(tree, copy, Vec3(0, 0, -1), 20.0).blocking); // blocked by the ledge
 }
 
 /// A closed octahedron of radius 5 about the origin.

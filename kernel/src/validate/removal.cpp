@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <mutex>
 #include <optional>
+#include <span>
 
 namespace st {
 
@@ -188,21 +189,37 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
     const Triangle& t = guide.triangles[f];
     return ((sweeps[t[0]] | sweeps[t[1]] | sweeps[t[2]]) & kSilhouette) || !passed_at_end(at_end(f));
   };
+  std::optional<AabbTree> own_tree;
+  const AabbTree& guide_tree = guide_tree_given ? *guide_tree_given : own_tree.emplace(guide);
+  if (!guide_tree.holds_all_of(guide)) throw InvalidInput("removal check: the tree given is not over all of the guide");
   validate_detail::SweepColumns bone_columns(w);
-  if (per_face) bone_columns.build(bmesh, &near_faces, pad);
   std::vector<std::uint8_t> near_guide(guide.face_count(), 0);
-  detail::parallel_for(guide.face_count(), 1024, [&](std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t f = begin; f < end; ++f) {
-      if (!asked(static_cast<Index>(f))) continue;
-      if (per_face) {
+  if (per_face) {
+    bone_columns.build(bmesh, &near_faces, pad);
+    detail::parallel_for(guide.face_count(), 1024, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t f = begin; f < end; ++f) {
         validate_detail::FrameBox b = bone_columns.box_of(guide, static_cast<Index>(f));
         b.hi[2] += L;
         near_guide[f] = bone_columns.any_in(b) ? 1 : 0;
-      } else {
-        near_guide[f] = bone.any_in_box(swept(triangle_box(guide, static_cast<Index>(f)), L * w)) ? 1 : 0;
       }
-    }
-  });
+    });
+  } else {
+    // Runs of faces in the guide tree's order (near each other): one box for a run whose swept boxes
+    // together meet no bone box, as along the outer surface, which the way takes away from the bone.
+    const std::span<const Index> order = guide_tree.ordered_faces();
+    constexpr std::size_t kRun = 16;
+    detail::parallel_for((order.size() + kRun - 1) / kRun, 64, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t r = begin; r < end; ++r) {
+        const std::span<const Index> run = order.subspan(r * kRun, std::min(kRun, order.size() - r * kRun));
+        BoundingBox together;
+        for (const Index f : run)
+          if (asked(f)) together.extend(triangle_box(guide, f));
+        if (!together.valid() || !bone.any_in_box(swept(together, L * w))) continue;
+        for (const Index f : run)
+          if (asked(f)) near_guide[f] = bone.any_in_box(swept(triangle_box(guide, f), L * w)) ? 1 : 0;
+      }
+    });
+  }
   std::vector<Index> first_face(guide.vertex_count(), kInvalidIndex);
   for (Index f = 0; f < guide.face_count(); ++f)
     if (near_guide[f])
@@ -226,8 +243,6 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
     }
   });
   // 2. Bone vertices near the guide along +d against the guide.
-  std::optional<AabbTree> own_tree;
-  const AabbTree& guide_tree = guide_tree_given ? *guide_tree_given : own_tree.emplace(guide);
   // A bone vertex the guide copies (zero clearance, a rim through a bone vertex) touches the guide
   // there; the faces and edges around it are tested by the other two families. The guide's vertices,
   // in a table by a hash of their coordinates' bits (equal hashes compared exactly), tell those apart
