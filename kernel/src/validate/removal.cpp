@@ -9,6 +9,8 @@
 #include "sweep_columns.h"
 
 #include <algorithm>
+#include <memory>
+#include <atomic>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -261,7 +263,16 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
   };
   for (Index v = 0; v < guide.vertex_count(); ++v)
     if (std::size_t s = slot_of(guide.positions[v]); table[s] == kInvalidIndex) table[s] = v;
-  auto copied = [&](Index v) { return table[slot_of(bmesh.positions[v])] != kInvalidIndex; };
+  // Asked once per bone vertex (a vertex has half a dozen faces): 1 copied, 2 not, 0 not yet asked.
+  const auto known = std::make_unique<std::atomic<std::uint8_t>[]>(bmesh.vertex_count());
+  auto copied = [&](Index v) {
+    std::uint8_t k = known[v].load(std::memory_order_relaxed);
+    if (k == 0) {
+      k = table[slot_of(bmesh.positions[v])] != kInvalidIndex ? 1 : 2;
+      known[v].store(k, std::memory_order_relaxed);
+    }
+    return k == 1;
+  };
   std::vector<std::uint8_t> meets(near_faces.size(), 0);
   detail::parallel_for(near_faces.size(), 1024, [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
