@@ -461,7 +461,7 @@ Swept sweep_by_every_pair(const TriangleMesh& guide, const std::vector<bool>& on
   return r;
 }
 
-TEST(Removal, OnlyTheSweptBoundarysPathsAreNeededPiecesAroundABumpyGuide) {
+TEST(Removal, ABumpyBallIsBlockedByExactlyThePiecesSomePairOfFeaturesMeets) {
   // A closed bumpy ball (its surface turns from facing the way off to facing back along a wavy
   // silhouette and around its bumps) moved off along a slanted way past small tetrahedra strewn
   // around and above it: the check, which follows only the paths of the vertices where the surface
@@ -498,7 +498,7 @@ TEST(Removal, OnlyTheSweptBoundarysPathsAreNeededPiecesAroundABumpyGuide) {
       piece.positions.push_back(centre + x + (trial % 2 ? 5.0 * x.dot(along) : 0.0) * along);
     }
     piece.triangles = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}};
-    if (trial % 16 == 0) { // a sliver through the ball's top at the end of the way, its corners beyond
+    if (trial % 16 == 0) { // a sliver through the ball's top at the end of the way, its corners outside
       const Vec3 across = w.cross(along).normalized(), top = highest + (L - 0.05) * w;
       piece.positions = {top - 1.6 * across, top + 1.6 * across + 0.02 * along, top + 1.6 * across - 0.02 * along,
                          top + 0.15 * w};
@@ -511,7 +511,8 @@ TEST(Removal, OnlyTheSweptBoundarysPathsAreNeededPiecesAroundABumpyGuide) {
       for (const Triangle& t : piece.triangles)
         at_rest = at_rest || triangles_intersect(guide.positions[g[0]], guide.positions[g[1]], guide.positions[g[2]],
                                                  piece.positions[t[0]], piece.positions[t[1]], piece.positions[t[2]]);
-    if (at_rest || test::winding_number(guide, centre) > 0.5) continue;
+    const Vec3 middle = 0.25 * (piece.positions[0] + piece.positions[1] + piece.positions[2] + piece.positions[3]);
+    if (at_rest || test::winding_number(guide, middle) > 0.5) continue; // in the ball, meeting none of it
     const Swept expected = sweep_by_every_pair(guide, one_way, piece, w, L);
     const RemovalReport r = check_removal(AabbTree(piece), guide, d, L);
     EXPECT_EQ(r.removable, !expected.meets) << "piece " << trial << " about " << centre.transpose();

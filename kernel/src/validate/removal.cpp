@@ -9,12 +9,12 @@
 #include "sweep_columns.h"
 
 #include <algorithm>
-#include <memory>
-#include <atomic>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <span>
@@ -170,11 +170,12 @@ RemovalReport SweepTest::operator()(const TriangleMesh& guide, const Vec3& direc
   std::vector<Index> near_faces;
   bone.for_each_in_box(reach.inflated(1.0 + pad), [&](Index f) { near_faces.push_back(f); });
   // Of a guide moving as a whole, only the paths of the vertices where its surface turns (kSilhouette)
-  // are edges of the boundary of the solid it sweeps (removal.h): the others, and the faces around
-  // none of them that the fourth family passes over, are not culled either. Those few paths and boxes
-  // read the bone's tree. Per face every vertex's path counts, most of them from a guide resting on
-  // the bone, whose tree boxes rise across the paths: they read the bone's faces in the box the guide
-  // sweeps by their columns along the way (sweep_columns.h).
+  // are edges of the boundary of the solid it sweeps (removal.h): only those are followed, and a face
+  // is culled only when a family asks about it (it has such a corner, or the fourth family tests it at
+  // the end of the way). Those few paths and boxes read the bone's tree. Per face every vertex's path
+  // counts, most of them from a guide resting on the bone, where the tree's boxes rise across the
+  // paths: they read the bone's faces in the box the guide sweeps by their columns along the way
+  // (sweep_columns.h).
   const bool per_face = start == SweepStart::raised;
   const std::vector<std::uint8_t> sweeps = per_face ? std::vector<std::uint8_t>{} : sweeping_vertices(guide, w);
   const bool closed = std::none_of(sweeps.begin(), sweeps.end(), [](std::uint8_t v) { return (v & kOpen) != 0; });
