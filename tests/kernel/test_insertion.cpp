@@ -1,17 +1,29 @@
 // Insertion direction and undercuts: hidden area against analytic values (a sphere's shadow on a
-// plane, a spherical cap beyond a hemisphere), and the automatic direction.
+// plane, a spherical cap beyond a hemisphere), the automatic direction, and the search's hidden areas
+// against every segment tested with every bone face.
 
 #include "helpers.h"
 
+#include "design/insertion_samples.h"
+#include "st/boolean/triangle_intersection.h"
 #include "st/core/aabb_tree.h"
 #include "st/core/errors.h"
+#include "st/core/predicates.h"
+#include "st/core/topology.h"
+#include "st/design/cut.h"
 #include "st/design/insertion.h"
+#include "st/design/surface_curve.h"
+#include "st/io/mesh_io.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <functional>
+#include <limits>
 #include <numbers>
+#include <random>
+#include <vector>
 
 namespace st {
 namespace {
@@ -105,6 +117,106 @@ TEST(Insertion, TheAutomaticDirectionOfAnUnevenCapHidesNoMoreThanItsAxis) {
     if (best.hidden[f] > 0.0f) EXPECT_GE(triangle_normal(cap, f).dot(found), 0.0);
   // ... and no direction of a small ring around it does better.
   EXPECT_LE(best.hidden_mm2, undercut(tree, cap, -axis, 0.5).hidden_mm2 + 1e-9);
+}
+
+/// The reference for the search's areas: each sample's segment as insertion.h states it, tested
+/// against every face of the bone with the exact test alone (after the boxes, which hold what meets).
+double hidden_by_every_face(const insertion_detail::Sight& sight, const TriangleMesh& region,
+                            const std::vector<insertion_detail::Sample>& samples, const Vec3& d) {
+  const TriangleMesh& bone = sight.bone.mesh();
+  std::vector<BoundingBox> boxes(bone.face_count());
+  for (Index g = 0; g < bone.face_count(); ++g) boxes[g] = triangle_box(bone, g);
+  double total = 0.0;
+  for (const insertion_detail::Sample& s : samples) {
+    const Triangle& t = region.triangles[s.face];
+    const Vec3 &a = region.positions[t[0]], &b = region.positions[t[1]], &c = region.positions[t[2]];
+    const int side = orient3d(a, b, c, a + d);
+    bool hidden = side < 0;
+    if (!hidden) {
+      Vec3 p0 = s.point - sight.lift * d;
+      if (side == 0) p0 += sight.lift * (b - a).cross(c - a).normalized();
+      const Vec3 q = p0 - sight.reach * d;
+      BoundingBox segment;
+      segment.extend(p0);
+      segment.extend(q);
+      for (Index g = 0; g < bone.face_count() && !hidden; ++g) {
+        const Triangle& f = bone.triangles[g];
+        hidden = boxes[g].overlaps(segment) &&
+                 segment_intersects_triangle(p0, q, bone.positions[f[0]], bone.positions[f[1]], bone.positions[f[2]]);
+      }
+    }
+    if (hidden) total += s.area;
+  }
+  return total;
+}
+
+/// hidden_areas against the reference, for the directions together and one at a time: every area
+/// without a bound; with the middle reference area as the bound, the areas under it as they are, and
+/// those over it as they are or infinity, never infinity for one under it. Returns how many were left
+/// at infinity.
+int expect_areas_of_every_face(const AabbTree& tree, const TriangleMesh& region,
+                               const std::vector<insertion_detail::Sample>& samples, const std::vector<Vec3>& ds) {
+  const insertion_detail::Sight sight = insertion_detail::sight_of(tree, 20.0);
+  std::vector<double> reference;
+  for (const Vec3& d : ds) reference.push_back(hidden_by_every_face(sight, region, samples, d));
+  const double infinity = std::numeric_limits<double>::infinity();
+  std::vector<double> sorted = reference;
+  std::sort(sorted.begin(), sorted.end());
+  const double bound = sorted[sorted.size() / 2];
+  int left = 0;
+  auto expect = [&](const std::vector<double>& areas, double with, std::size_t first) {
+    for (std::size_t i = 0; i < areas.size(); ++i) {
+      const double r = reference[first + i];
+      SCOPED_TRACE("direction " + std::to_string(first + i) + ", reference area " + std::to_string(r));
+      if (areas[i] == infinity) {
+        ++left;
+        EXPECT_GT(r, with);
+      } else {
+        EXPECT_NEAR(areas[i], r, 1e-9 * r + 1e-12);
+      }
+    }
+  };
+  expect(insertion_detail::hidden_areas(sight, region, samples, ds, infinity), infinity, 0);
+  expect(insertion_detail::hidden_areas(sight, region, samples, ds, bound), bound, 0);
+  for (std::size_t i = 0; i < ds.size(); ++i)
+    expect(insertion_detail::hidden_areas(sight, region, samples, {ds[i]}, bound), bound, i);
+  EXPECT_TRUE(std::any_of(reference.begin(), reference.end(), [](double r) { return r > 0.0; }));
+  return left;
+}
+
+TEST(Insertion, TheSearchsHiddenAreasAreThoseOfEverySegmentAgainstEveryBoneFace) {
+  // A regular grid (exact coordinates; segments along its grid lines and through its vertices) with a
+  // ball above it and one resting on it, seen along axis-aligned, diagonal and random directions;
+  // then the labial surface of a real maxilla scan against its whole bone, along random directions.
+  const TriangleMesh plane = test::make_height_field(0, 32, 0, 32, 32, [](double, double) { return 0.0; });
+  const TriangleMesh bone =
+      joined(joined(plane, test::make_icosphere(4.0, 3, Vec3(16, 16, 8))), test::make_icosphere(3.0, 3, Vec3(8, 8, 3)));
+  const AabbTree tree(bone);
+  std::vector<Vec3> ds = {Vec3(0, 0, -1), Vec3(1, 0, -1).normalized(), Vec3(1, 1, -2).normalized(),
+                          Vec3(0, -1, -2).normalized(), Vec3(1, 0, 0)};
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> spread(-0.6, 0.6);
+  for (int k = 0; k < 4; ++k) ds.push_back(Vec3(spread(random), spread(random), -1.0).normalized());
+  const int left = expect_areas_of_every_face(tree, plane, insertion_detail::samples_of(plane, 0.0, 1), ds) +
+                   expect_areas_of_every_face(tree, plane, insertion_detail::samples_of(plane, 0.4, 1), ds);
+
+  const CaseFile c = read_case(test::examples_dir() + "/cases/maxilla-labial-auto.json");
+  const TriangleMesh maxilla = read_mesh(c.bone);
+  const TemplateOptions o = test::case_options(c);
+  const MeshTopology topology(maxilla);
+  CurveOptions curve_options;
+  curve_options.max_snap_distance = o.max_snap_distance;
+  curve_options.also_index = o.inside;
+  CutOptions cut_options;
+  cut_options.inside = o.inside;
+  const TriangleMesh region =
+      cut_region(topology, trace_surface_curve(topology, o.boundary_points, curve_options), cut_options).region;
+  const AabbTree maxilla_tree(maxilla);
+  std::vector<insertion_detail::Sample> samples = insertion_detail::samples_of(region, 0.0, 5);
+  std::vector<Vec3> around;
+  for (int k = 0; k < 5; ++k) around.push_back(Vec3(spread(random), 1.0, spread(random)).normalized());
+  expect_areas_of_every_face(maxilla_tree, region, samples, around);
+  EXPECT_GT(left, 0); // the bound is put to use
 }
 
 TEST(Insertion, RefusesAZeroDirectionAndSpacing) {

@@ -293,6 +293,9 @@ template <class Leaf> bool AabbTree::along(const Vec3& origin, const Vec3& direc
                                            double pad, Leaf&& leaf) const {
   if (nodes_.empty()) return false;
   const Vec3 inv = direction.cwiseInverse();
+  // With a pad, each face's own box is tested too before the caller's test: the pad, wider than the
+  // rounding of a box test, keeps the filter from passing over a face the segment meets.
+  const bool per_face = pad > 0.0;
   Index stack[128];
   int top = 0;
   stack[top++] = 0;
@@ -300,8 +303,10 @@ template <class Leaf> bool AabbTree::along(const Vec3& origin, const Vec3& direc
     const Node& n = nodes_[stack[--top]];
     if (!ray_hits_box(n.box.min, n.box.max, std::max(pad, 0.0), origin, inv, t_min, t_max)) continue;
     if (n.left == kInvalidIndex) {
-      for (Index i = n.begin; i < n.end; ++i)
+      for (Index i = n.begin; i < n.end; ++i) {
+        if (per_face && !ray_hits_box(face_boxes_[i].min, face_boxes_[i].max, pad, origin, inv, t_min, t_max)) continue;
         if (leaf(faces_[i])) return true;
+      }
       continue;
     }
     stack[top++] = n.left;

@@ -1,34 +1,25 @@
 #include "st/design/insertion.h"
 
+#include "design/insertion_samples.h"
 #include "detail/cell_set.h"
 #include "detail/parallel.h"
 #include "st/boolean/triangle_intersection.h"
 #include "st/core/errors.h"
 #include "st/core/predicates.h"
 #include "st/core/ray_triangle.h"
-#include "validate/sweep_columns.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <vector>
 
-namespace st {
+namespace st::insertion_detail {
 
 namespace {
-
-/// The bone as the segments see it: how far they reach (past the bone's bounding box) and how far off
-/// the surface they start; measured once per bone, not per direction. For one direction asked of many
-/// samples, the bone's faces the segments can meet may be listed in columns along it: a segment starts
-/// on the bone, where the tree's boxes rise across it, and reads one cell instead.
-struct Sight {
-  const AabbTree& bone;
-  double reach;
-  double lift;
-  const validate_detail::SweepColumns* columns = nullptr; // along -d, over the faces the segments reach
-};
 
 /// Columns along -d over the bone's faces in the box the region's segments sweep (their boxes grown by
 /// the lift, as the tree's are for them); none when there are more than `most` of them, the faces a
@@ -47,17 +38,49 @@ std::optional<validate_detail::SweepColumns> columns_along(const Sight& sight, c
   return columns;
 }
 
+/// Hidden area of the samples along d, and per sample whether it is hidden. Given a bound (and no
+/// flags), infinity as soon as the area hidden so far is over it: a direction that cannot be better
+/// is left at that. (Over by more than the sums' rounding, 1e-9 of it: the whole sum is then over the
+/// bound too, so a caller comparing the area with the bound decides as it would on the whole sum.)
+double hidden_area(const Sight& sight, const TriangleMesh& region, const std::vector<Sample>& samples, const Vec3& d,
+                   std::vector<std::uint8_t>* flags, double bound = std::numeric_limits<double>::infinity()) {
+  constexpr std::size_t kGrain = 256;
+  std::vector<double> chunk_area((samples.size() + kGrain - 1) / kGrain, 0.0);
+  if (flags) flags->assign(samples.size(), 0);
+  const bool bounded = !flags && bound < std::numeric_limits<double>::infinity();
+  const double stop = bound * (1.0 + 1e-9);
+  std::atomic<double> done{0.0}; // the area hidden in the chunks finished, in any order
+  std::atomic<bool> over{false};
+  detail::parallel_for(samples.size(), kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
+    if (over.load(std::memory_order_relaxed)) return;
+    double sum = 0.0;
+    for (std::size_t i = begin; i < end; ++i) {
+      const Sample& s = samples[i];
+      const Triangle& t = region.triangles[s.face];
+      if (!is_hidden(sight, s.point, region.positions[t[0]], region.positions[t[1]], region.positions[t[2]], d))
+        continue;
+      sum += s.area;
+      if (flags) (*flags)[i] = 1;
+      if (bounded && done.load(std::memory_order_relaxed) + sum > stop) {
+        over.store(true, std::memory_order_relaxed);
+        return;
+      }
+    }
+    chunk_area[begin / kGrain] = sum;
+    if (bounded) done.fetch_add(sum, std::memory_order_relaxed);
+  });
+  if (over.load()) return std::numeric_limits<double>::infinity();
+  double total = 0.0;
+  for (double a : chunk_area) total += a; // in chunk order: the same for any thread count
+  return total;
+}
+
+} // namespace
+
 Sight sight_of(const AabbTree& bone, double reach) {
   const double size = bounding_box(bone.mesh()).diagonal() + 1.0;
   return {bone, std::min(reach, 2.0 * size), 1e-9 * size};
 }
-
-/// Samples of a region's faces: centre, face, weight (area).
-struct Sample {
-  Vec3 point;
-  Index face;
-  double area;
-};
 
 /// Whether the guide, moving along d, cannot reach `p` on region face f (corners a, b, c), against
 /// the bone: f faces away from it (exactly: orient3d of a, b, c and a + d), or a bone face meets the
@@ -115,28 +138,46 @@ std::vector<Sample> samples_of(const TriangleMesh& region, double spacing, std::
   return out;
 }
 
-/// Hidden area of the samples along d, and per sample whether it is hidden.
-double hidden_area(const Sight& sight, const TriangleMesh& region, const std::vector<Sample>& samples, const Vec3& d,
-                   std::vector<std::uint8_t>* flags) {
-  constexpr std::size_t kGrain = 256;
-  std::vector<double> chunk_area((samples.size() + kGrain - 1) / kGrain, 0.0);
-  if (flags) flags->assign(samples.size(), 0);
-  detail::parallel_for(samples.size(), kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
-    double sum = 0.0;
-    for (std::size_t i = begin; i < end; ++i) {
-      const Sample& s = samples[i];
-      const Triangle& t = region.triangles[s.face];
-      if (!is_hidden(sight, s.point, region.positions[t[0]], region.positions[t[1]], region.positions[t[2]], d))
-        continue;
-      sum += s.area;
-      if (flags) (*flags)[i] = 1;
+std::vector<double> hidden_areas(const Sight& sight, const TriangleMesh& region, const std::vector<Sample>& samples,
+                                 const std::vector<Vec3>& ds, double bound) {
+  const std::size_t most = 4 * samples.size();
+  auto one = [&](const Vec3& d, bool on_threads) {
+    const std::optional<validate_detail::SweepColumns> columns =
+        region.face_count() <= most ? columns_along(sight, region, d, most) : std::nullopt;
+    Sight along = sight;
+    if (columns) along.columns = &*columns;
+    if (on_threads) return hidden_area(along, region, samples, d, nullptr, bound);
+    constexpr std::size_t kGrain = 256; // hidden_area's
+    const double stop = bound * (1.0 + 1e-9);
+    double total = 0.0;
+    for (std::size_t begin = 0; begin < samples.size(); begin += kGrain) {
+      double sum = 0.0;
+      for (std::size_t i = begin; i < std::min(samples.size(), begin + kGrain); ++i) {
+        const Sample& s = samples[i];
+        const Triangle& t = region.triangles[s.face];
+        if (!is_hidden(along, s.point, region.positions[t[0]], region.positions[t[1]], region.positions[t[2]], d))
+          continue;
+        sum += s.area;
+        if (total + sum > stop) return std::numeric_limits<double>::infinity();
+      }
+      total += sum;
     }
-    chunk_area[begin / kGrain] = sum;
-  });
-  double total = 0.0;
-  for (double a : chunk_area) total += a; // in chunk order: the same for any thread count
-  return total;
+    return total;
+  };
+  std::vector<double> areas(ds.size());
+  if (ds.size() == 1) areas[0] = one(ds[0], true);
+  else
+    detail::parallel_for(ds.size(), 1, [&](std::size_t, std::size_t i, std::size_t) { areas[i] = one(ds[i], false); });
+  return areas;
 }
+
+} // namespace st::insertion_detail
+
+namespace st {
+
+using namespace insertion_detail;
+
+namespace {
 
 Vec3 checked_direction(const Vec3& d) {
   const double n = d.norm();
@@ -232,35 +273,49 @@ Vec3 least_undercut_direction(const AabbTree& bone, const TriangleMesh& region, 
     Vec3 d;
     double hidden;
     double angle; // from m
-  } best{m, hidden_area(sight, region, samples, m, nullptr), 0.0};
-  auto consider = [&](const Vec3& d) {
-    const double angle = std::acos(std::clamp(d.dot(m), -1.0, 1.0));
-    if (angle > std::numbers::pi / 3.0 + 1e-12) return false;
-    const double h = hidden_area(sight, region, samples, d, nullptr);
-    if (h < best.hidden || (h == best.hidden && angle < best.angle)) {
-      best = {d, h, angle};
-      return true;
+  } best{m, hidden_areas(sight, region, samples, {m}, std::numeric_limits<double>::infinity())[0], 0.0};
+  // Directions in turn, each taking the best place when its hidden area is smaller, or as small and
+  // nearer the start; each group's areas found at once, beside each other, with the best area before
+  // the group as their bound: one over it is over the best met in turn too, and left as before.
+  auto consider = [&](const std::vector<Vec3>& group) {
+    std::vector<Vec3> ds;
+    std::vector<double> angles;
+    for (const Vec3& d : group) {
+      const double angle = std::acos(std::clamp(d.dot(m), -1.0, 1.0));
+      if (angle > std::numbers::pi / 3.0 + 1e-12) continue;
+      ds.push_back(d);
+      angles.push_back(angle);
     }
-    return false;
+    const std::vector<double> hidden = hidden_areas(sight, region, samples, ds, best.hidden);
+    bool moved = false;
+    for (std::size_t i = 0; i < ds.size(); ++i)
+      if (hidden[i] < best.hidden || (hidden[i] == best.hidden && angles[i] < best.angle)) {
+        best = {ds[i], hidden[i], angles[i]};
+        moved = true;
+      }
+    return moved;
   };
   // Nothing hidden: no direction does better, and none is nearer the start.
   if (best.hidden == 0.0) return m;
   const Vec3 u = perpendicular(m), v = m.cross(u);
   constexpr double kDegree = std::numbers::pi / 180.0;
-  for (int ring = 1; ring <= 8 && best.hidden > 0.0; ++ring) // a ring farther out cannot beat a zero
+  for (int ring = 1; ring <= 8 && best.hidden > 0.0; ++ring) { // a ring farther out cannot beat a zero
+    std::vector<Vec3> group;
     for (int k = 0; k < 12; ++k) {
       const double around = k * 30.0 * kDegree;
-      consider(tilted(m, std::cos(around) * u + std::sin(around) * v, ring * 7.5 * kDegree));
+      group.push_back(tilted(m, std::cos(around) * u + std::sin(around) * v, ring * 7.5 * kDegree));
     }
+    consider(group);
+  }
   for (double step = 3.75 * kDegree; step > 0.1 * kDegree; step *= 0.5)
     for (int round = 0; round < 8; ++round) {
       const Vec3 centre = best.d, a = perpendicular(centre), b = centre.cross(a);
-      bool moved = false;
+      std::vector<Vec3> group;
       for (int k = 0; k < 8; ++k) {
         const double around = k * 45.0 * kDegree;
-        moved = consider(tilted(centre, std::cos(around) * a + std::sin(around) * b, step)) || moved;
+        group.push_back(tilted(centre, std::cos(around) * a + std::sin(around) * b, step));
       }
-      if (!moved) break;
+      if (!consider(group)) break;
     }
   return best.d;
 }
