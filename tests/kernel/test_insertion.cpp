@@ -186,11 +186,13 @@ int expect_areas_of_every_face(const AabbTree& tree, const TriangleMesh& region,
 
 TEST(Insertion, TheSearchsHiddenAreasAreThoseOfEverySegmentAgainstEveryBoneFace) {
   // A regular grid (exact coordinates; segments along its grid lines and through its vertices) with a
-  // ball above it and one resting on it, seen along axis-aligned, diagonal and random directions;
-  // then the labial surface of a real maxilla scan against its whole bone, along random directions.
+  // ball above it, one resting on it and one near the end of the segments' 20 mm, seen along
+  // axis-aligned, diagonal and random directions; then the labial surface of a real maxilla scan
+  // against its whole bone, along random directions.
   const TriangleMesh plane = test::make_height_field(0, 32, 0, 32, 32, [](double, double) { return 0.0; });
-  const TriangleMesh bone =
-      joined(joined(plane, test::make_icosphere(4.0, 3, Vec3(16, 16, 8))), test::make_icosphere(3.0, 3, Vec3(8, 8, 3)));
+  const TriangleMesh bone = joined(
+      joined(joined(plane, test::make_icosphere(4.0, 3, Vec3(16, 16, 8))), test::make_icosphere(3.0, 3, Vec3(8, 8, 3))),
+      test::make_icosphere(2.0, 3, Vec3(24, 24, 17)));
   const AabbTree tree(bone);
   std::vector<Vec3> ds = {Vec3(0, 0, -1), Vec3(1, 0, -1).normalized(), Vec3(1, 1, -2).normalized(),
                           Vec3(0, -1, -2).normalized(), Vec3(1, 0, 0)};

@@ -21,20 +21,36 @@ namespace st::insertion_detail {
 
 namespace {
 
-/// Columns along -d over the bone's faces in the box the region's segments sweep (their boxes grown by
-/// the lift, as the tree's are for them); none when there are more than `most` of them, the faces a
-/// segment reads in the tree costing less than listing them all.
+/// Columns along -d over the bone's faces the region's segments can meet: those in the prism they sweep,
+/// in the columns' frame (u, v across the way, w along it) the region's extent across it and from its
+/// nearest point to its farthest plus the reach along it, grown by four lifts (a segment starts a lift or
+/// two off its sample, and the frame's dot products round far below that). An oblique way's prism is a
+/// small part of its axis-aligned box. None when there are more than `most` of them, the faces a segment
+/// reads in the tree costing less than listing them all.
 std::optional<validate_detail::SweepColumns> columns_along(const Sight& sight, const TriangleMesh& region,
                                                            const Vec3& d, std::size_t most) {
+  std::optional<validate_detail::SweepColumns> columns(std::in_place, -d);
+  validate_detail::FrameBox prism;
+  for (const Vec3& p : region.positions) {
+    const Vec3 x = columns->frame(p);
+    prism.lo = prism.lo.cwiseMin(x);
+    prism.hi = prism.hi.cwiseMax(x);
+  }
+  prism.hi[2] += sight.reach;
+  prism.lo -= Vec3::Constant(4.0 * sight.lift);
+  prism.hi += Vec3::Constant(4.0 * sight.lift);
   const BoundingBox box = bounding_box(region);
   BoundingBox swept = box;
   swept.extend(box.min - sight.reach * d);
   swept.extend(box.max - sight.reach * d);
+  const TriangleMesh& bone = sight.bone.mesh();
   std::vector<Index> faces;
-  sight.bone.for_each_in_box(swept.inflated(4.0 * sight.lift), [&](Index f) { faces.push_back(f); });
+  sight.bone.for_each_in_box(swept.inflated(4.0 * sight.lift), [&](Index f) {
+    const validate_detail::FrameBox b = columns->box_of(bone, f);
+    if ((b.lo.array() <= prism.hi.array()).all() && (b.hi.array() >= prism.lo.array()).all()) faces.push_back(f);
+  });
   if (faces.size() > most) return std::nullopt;
-  std::optional<validate_detail::SweepColumns> columns(std::in_place, -d);
-  columns->build(sight.bone.mesh(), &faces, sight.lift);
+  columns->build(bone, &faces, sight.lift);
   return columns;
 }
 
