@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <queue>
 #include <unordered_set>
 
 namespace st {
@@ -209,37 +210,51 @@ SurfaceCurve trace_surface_curve(const MeshTopology& topology, const std::vector
 
   // 2. Snap each control point to the closest face that belongs to a surface reaching beyond its
   //    snap ball: CT noise islands (small components wholly inside the ball) never capture a point.
+  //    The faces are tried nearest first (the nearest alone, as a rule); a face's flood within the ball
+  //    goes farthest face first, so that on a surface reaching beyond the ball it leaves the ball after
+  //    a walk across it rather than a flood of it (a piece wholly inside is flooded whole either way).
   for (std::size_t i = 0; i < n; ++i) {
-    auto& faces = near[i];
-    std::vector<Index> ball; // in increasing order, as found
-    ball.reserve(faces.size());
-    for (const auto& [d, f] : faces) ball.push_back(f);
-    std::sort(faces.begin(), faces.end());
-    auto in_ball = [&](Index f) { return std::binary_search(ball.begin(), ball.end(), f); };
-    std::vector<Index> island; // faces known to lie on small pieces
-    Index chosen = kInvalidIndex;
-    for (const auto& [d, f] : faces) {
-      if (std::binary_search(island.begin(), island.end(), f)) continue;
-      // Flood within the ball; reaching a face outside it means a larger surface.
-      std::vector<Index> stack{f};
+    const auto& faces = near[i]; // in increasing face order
+    auto in_ball = [&](Index f) {
+      const auto it = std::lower_bound(faces.begin(), faces.end(), f,
+                                       [](const std::pair<double, Index>& e, Index g) { return e.second < g; });
+      return it != faces.end() && it->second == f ? it : faces.end();
+    };
+    std::vector<Index> island; // faces known to lie on small pieces, sorted
+    auto escapes_from = [&](Index f, double d) {
+      std::priority_queue<std::pair<double, Index>> front; // farthest first
+      front.emplace(d, f);
       std::unordered_set<Index> piece{f};
-      bool escapes = false;
-      while (!stack.empty() && !escapes) {
-        const Index g = stack.back();
-        stack.pop_back();
-        for (Index k = 0; k < 3 && !escapes; ++k) {
+      while (!front.empty()) {
+        const Index g = front.top().second;
+        front.pop();
+        for (Index k = 0; k < 3; ++k) {
           const Index o = topology.opposite(3 * g + k);
           if (o == kInvalidIndex) continue;
-          if (!in_ball(o / 3)) escapes = true;
-          else if (piece.insert(o / 3).second) stack.push_back(o / 3);
+          const auto at = in_ball(o / 3);
+          if (at == faces.end()) return true;
+          if (piece.insert(o / 3).second) front.emplace(at->first, o / 3);
         }
-      }
-      if (escapes) {
-        chosen = f;
-        break;
       }
       island.insert(island.end(), piece.begin(), piece.end());
       std::sort(island.begin(), island.end());
+      return false;
+    };
+    Index chosen = kInvalidIndex;
+    if (!faces.empty()) {
+      const auto nearest = *std::min_element(faces.begin(), faces.end());
+      if (escapes_from(nearest.second, nearest.first)) chosen = nearest.second;
+    }
+    if (chosen == kInvalidIndex && !island.empty()) {
+      std::vector<std::pair<double, Index>> by_distance = faces;
+      std::sort(by_distance.begin(), by_distance.end());
+      for (const auto& [d, f] : by_distance) {
+        if (std::binary_search(island.begin(), island.end(), f)) continue;
+        if (escapes_from(f, d)) {
+          chosen = f;
+          break;
+        }
+      }
     }
     if (chosen == kInvalidIndex)
       throw InvalidInput(options.name + ": control point " + std::to_string(i) + " " + where(control_points[i]) +
