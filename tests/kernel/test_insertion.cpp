@@ -17,8 +17,8 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <numbers>
@@ -184,7 +184,7 @@ int expect_areas_of_every_face(const AabbTree& tree, const TriangleMesh& region,
   return left;
 }
 
-TEST(Insertion, TheSearchsHiddenAreasAreThoseOfEverySegmentAgainstEveryBoneFace) {
+TEST(Insertion, TheSearchHidesWhatEverySegmentTestedAgainstEveryBoneFaceHides) {
   // A regular grid (exact coordinates; segments along its grid lines and through its vertices) with a
   // ball above it, one resting on it and one near the end of the segments' 20 mm, seen along
   // axis-aligned, diagonal and random directions; then the labial surface of a real maxilla scan
@@ -214,7 +214,7 @@ TEST(Insertion, TheSearchsHiddenAreasAreThoseOfEverySegmentAgainstEveryBoneFace)
   const TriangleMesh region =
       cut_region(topology, trace_surface_curve(topology, o.boundary_points, curve_options), cut_options).region;
   const AabbTree maxilla_tree(maxilla);
-  std::vector<insertion_detail::Sample> samples = insertion_detail::samples_of(region, 0.0, 5);
+  const std::vector<insertion_detail::Sample> samples = insertion_detail::samples_of(region, 0.0, 5);
   std::vector<Vec3> around;
   for (int k = 0; k < 5; ++k) around.push_back(Vec3(spread(random), 1.0, spread(random)).normalized());
   expect_areas_of_every_face(maxilla_tree, region, samples, around);

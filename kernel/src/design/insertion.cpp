@@ -25,10 +25,11 @@ namespace {
 /// in the columns' frame (u, v across the way, w along it) the region's extent across it and from its
 /// nearest point to its farthest plus the reach along it, grown by four lifts (a segment starts a lift or
 /// two off its sample, and the frame's dot products round far below that). An oblique way's prism is a
-/// small part of its axis-aligned box. None when there are more than `most` of them, the faces a segment
-/// reads in the tree costing less than listing them all.
+/// small part of its axis-aligned box. None when there are more than `most` of them (the region's own faces
+/// among them), the faces a segment reads in the tree costing less than listing them all.
 std::optional<validate_detail::SweepColumns> columns_along(const Sight& sight, const TriangleMesh& region,
                                                            const Vec3& d, std::size_t most) {
+  if (region.face_count() > most) return std::nullopt;
   std::optional<validate_detail::SweepColumns> columns(std::in_place, -d);
   validate_detail::FrameBox prism;
   for (const Vec3& p : region.positions) {
@@ -57,9 +58,11 @@ std::optional<validate_detail::SweepColumns> columns_along(const Sight& sight, c
 /// Hidden area of the samples along d, and per sample whether it is hidden. Given a bound (and no
 /// flags), infinity as soon as the area hidden so far is over it: a direction that cannot be better
 /// is left at that. (Over by more than the sums' rounding, 1e-9 of it: the whole sum is then over the
-/// bound too, so a caller comparing the area with the bound decides as it would on the whole sum.)
+/// bound too, so a caller comparing the area with the bound decides as it would on the whole sum.) The
+/// chunks on all threads, or in order on the caller's.
 double hidden_area(const Sight& sight, const TriangleMesh& region, const std::vector<Sample>& samples, const Vec3& d,
-                   std::vector<std::uint8_t>* flags, double bound = std::numeric_limits<double>::infinity()) {
+                   std::vector<std::uint8_t>* flags, double bound = std::numeric_limits<double>::infinity(),
+                   bool on_threads = true) {
   constexpr std::size_t kGrain = 256;
   std::vector<double> chunk_area((samples.size() + kGrain - 1) / kGrain, 0.0);
   if (flags) flags->assign(samples.size(), 0);
@@ -67,7 +70,7 @@ double hidden_area(const Sight& sight, const TriangleMesh& region, const std::ve
   const double stop = bound * (1.0 + 1e-9);
   std::atomic<double> done{0.0}; // the area hidden in the chunks finished, in any order
   std::atomic<bool> over{false};
-  detail::parallel_for(samples.size(), kGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
+  auto chunk = [&](std::size_t, std::size_t begin, std::size_t end) {
     if (over.load(std::memory_order_relaxed)) return;
     double sum = 0.0;
     for (std::size_t i = begin; i < end; ++i) {
@@ -84,7 +87,11 @@ double hidden_area(const Sight& sight, const TriangleMesh& region, const std::ve
     }
     chunk_area[begin / kGrain] = sum;
     if (bounded) done.fetch_add(sum, std::memory_order_relaxed);
-  });
+  };
+  if (on_threads) detail::parallel_for(samples.size(), kGrain, chunk);
+  else
+    for (std::size_t begin = 0; begin < samples.size(); begin += kGrain)
+      chunk(0, begin, std::min(samples.size(), begin + kGrain));
   if (over.load()) return std::numeric_limits<double>::infinity();
   double total = 0.0;
   for (double a : chunk_area) total += a; // in chunk order: the same for any thread count
@@ -158,27 +165,10 @@ std::vector<double> hidden_areas(const Sight& sight, const TriangleMesh& region,
                                  const std::vector<Vec3>& ds, double bound) {
   const std::size_t most = 4 * samples.size();
   auto one = [&](const Vec3& d, bool on_threads) {
-    const std::optional<validate_detail::SweepColumns> columns =
-        region.face_count() <= most ? columns_along(sight, region, d, most) : std::nullopt;
+    const std::optional<validate_detail::SweepColumns> columns = columns_along(sight, region, d, most);
     Sight along = sight;
     if (columns) along.columns = &*columns;
-    if (on_threads) return hidden_area(along, region, samples, d, nullptr, bound);
-    constexpr std::size_t kGrain = 256; // hidden_area's
-    const double stop = bound * (1.0 + 1e-9);
-    double total = 0.0;
-    for (std::size_t begin = 0; begin < samples.size(); begin += kGrain) {
-      double sum = 0.0;
-      for (std::size_t i = begin; i < std::min(samples.size(), begin + kGrain); ++i) {
-        const Sample& s = samples[i];
-        const Triangle& t = region.triangles[s.face];
-        if (!is_hidden(along, s.point, region.positions[t[0]], region.positions[t[1]], region.positions[t[2]], d))
-          continue;
-        sum += s.area;
-        if (total + sum > stop) return std::numeric_limits<double>::infinity();
-      }
-      total += sum;
-    }
-    return total;
+    return hidden_area(along, region, samples, d, nullptr, bound, on_threads);
   };
   std::vector<double> areas(ds.size());
   if (ds.size() == 1) areas[0] = one(ds[0], true);
@@ -230,8 +220,7 @@ Undercut undercut(const AabbTree& bone, const TriangleMesh& region, const Vec3& 
   // The same hidden samples whichever filter reads the bone (the exact test decides): columns when
   // the bone the segments can meet is not much larger than the samples.
   const std::size_t most = 2 * samples.size();
-  const std::optional<validate_detail::SweepColumns> columns =
-      nf <= most ? columns_along(sight, region, u.direction, most) : std::nullopt;
+  const std::optional<validate_detail::SweepColumns> columns = columns_along(sight, region, u.direction, most);
   if (columns) sight.columns = &*columns;
   std::vector<std::uint8_t> flags;
   hidden_area(sight, region, samples, u.direction, &flags);
