@@ -225,6 +225,7 @@ TEST(Orient2d, UlpGridNearALineMatchesExactReference) {
 // far points.
 TEST(Orient3d, UlpGridNearAPlaneMatchesExactReference) {
   const Vec3 a(12, 12, -21.75), b(24, -12, -9.75), c(-8, 20, -9.75);
+  const st::PlaneOrientation plane(a, b, c);
   const double u = 0x1p-53; // ulp in [0.5, 1)
   int naive_wrong = 0, zeros = 0;
   for (int i = -12; i <= 12; ++i)
@@ -238,6 +239,7 @@ TEST(Orient3d, UlpGridNearAPlaneMatchesExactReference) {
         ASSERT_EQ(st::orient3d(a, b, c, d), expected) << i << " " << j << " " << k;
         ASSERT_EQ(st::orient3d(b, c, a, d), expected);
         ASSERT_EQ(st::orient3d(d, b, c, a), -expected);
+        ASSERT_EQ(plane(d), expected) << i << " " << j << " " << k;
         naive_wrong += naive_orient3d(a, b, c, d) != expected;
         zeros += expected == 0;
       }
@@ -260,6 +262,7 @@ TEST(Orient3d, LargeCoordinatesWithUlpPerturbations) {
         const int expected = reference_orient3d(a, b, c, d);
         ASSERT_EQ(st::orient3d(a, b, c, d), expected) << i << " " << j << " " << k;
         ASSERT_EQ(st::orient3d(a, d, b, c), expected);
+        ASSERT_EQ(st::PlaneOrientation(a, b, c)(d), expected);
         naive_wrong += naive_orient3d(a, b, c, d) != expected;
         nonzero += expected != 0;
       }
@@ -290,6 +293,8 @@ TEST(Orient3d, RandomNearlyCoplanarPointsMatchExactReference) {
     const int expected = reference_orient3d(a, b, c, d);
     ASSERT_EQ(st::orient3d(a, b, c, d), expected) << n;
     ASSERT_EQ(st::orient3d(b, a, c, d), -expected) << n;
+    ASSERT_EQ(st::PlaneOrientation(a, b, c)(d), expected) << n;
+    ASSERT_EQ(st::PlaneOrientation(b, a, c)(d), -expected) << n;
     ASSERT_EQ(st::orient3d(d, a, b, c), -expected) << n;
     naive_wrong += naive_orient3d(a, b, c, d) != expected;
     (expected == 0 ? zero : nonzero)++;
@@ -356,6 +361,7 @@ TEST(Orient3d, ExtremeMagnitudesAndSpansKeepTheSign) {
             s[i] = Vec3(std::ldexp(base[i][0], ex), std::ldexp(base[i][1], ey), std::ldexp(base[i][2], ez));
           ASSERT_EQ(st::orient3d(s[0], s[1], s[2], s[3]), expected) << n << " " << ex << " " << ey << " " << ez;
           ASSERT_EQ(st::orient3d(s[1], s[0], s[2], s[3]), -expected);
+          ASSERT_EQ(st::PlaneOrientation(s[0], s[1], s[2])(s[3]), expected);
           ++checked;
         }
   }
@@ -416,4 +422,43 @@ TEST(Orient3d, HugeAndTinyCoordinatesInOneCall) {
   EXPECT_EQ(st::orient3d(p, q, r_tilted, Vec3(5, 0, 0x1p-74)), 0);         // on the plane
   EXPECT_EQ(st::orient3d(p, q, r_tilted, Vec3(5, 0x1p-1000, 0x1p-74)), 1); // just below it
   EXPECT_EQ(st::orient3d(p, q, r_tilted, Vec3(5, -0x1p-1000, 0x1p-74)), -1);
+  // One plane's filter, whose products overflow or underflow here, falls back to the exact sign.
+  const std::array<std::array<Vec3, 4>, 10> calls = {{{a, b, c, Vec3(0x1p-1074, 0x1p-1074, 0)},
+                                                      {a, b, c, Vec3(0x1p1000, -0x1p-1000, 0x1p-1074)},
+                                                      {a, b, c, Vec3(0x1p1000, -0x1p-1000, -0x1p-1074)},
+                                                      {p, q, r, Vec3(0x1p-500, 0x1p-600, 0x1p-1074)},
+                                                      {p, q, r, Vec3(0x1p-500, 0x1p-600, 0)},
+                                                      {p, q, r_tilted, Vec3(0, -0x1p1000, 0)},
+                                                      {p, q, r_tilted, Vec3(0, -0x1p1000, 0x1p-1074)},
+                                                      {p, q, r_tilted, Vec3(5, 0, 0x1p-74)},
+                                                      {p, q, r_tilted, Vec3(5, 0x1p-1000, 0x1p-74)},
+                                                      {p, q, r_tilted, Vec3(5, -0x1p-1000, 0x1p-74)}}};
+  for (const auto& [x, y, z, d] : calls) EXPECT_EQ(st::PlaneOrientation(x, y, z)(d), st::orient3d(x, y, z, d));
+}
+
+// The coordinates a Boolean meets: float32 values of a template in mm, one face's plane against the
+// corners of many faces, exactly on it (integer combinations on a grid), an ulp off it, and anywhere.
+TEST(PlaneOrientation, OnePlaneAgainstManyPointsGivesOrient3dsSign) {
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> coord(-60.0, 60.0);
+  std::uniform_int_distribution<int> small(-3, 3), ulps(-1, 1);
+  auto grid = [](double x) { return std::ldexp(std::nearbyint(std::ldexp(x, 12)), -12); }; // float32-exact
+  int zero = 0, nonzero = 0;
+  for (int n = 0; n < 2000; ++n) {
+    const Vec3 a(grid(coord(rng)), grid(coord(rng)), grid(coord(rng)));
+    const Vec3 b(grid(coord(rng)), grid(coord(rng)), grid(coord(rng)));
+    const Vec3 c(grid(coord(rng)), grid(coord(rng)), grid(coord(rng)));
+    const st::PlaneOrientation plane(a, b, c);
+    for (int m = 0; m < 20; ++m) {
+      Vec3 d = m % 2 == 0 ? Vec3(a + small(rng) * (b - a) + small(rng) * (c - a))
+                          : Vec3(grid(coord(rng)), grid(coord(rng)), grid(coord(rng)));
+      if (m % 4 == 2)
+        for (int k = 0; k < 3; ++k) d[k] = step(d[k], ulps(rng));
+      const int expected = reference_orient3d(a, b, c, d);
+      ASSERT_EQ(plane(d), expected) << n << " " << m;
+      (expected == 0 ? zero : nonzero)++;
+    }
+  }
+  EXPECT_GT(zero, 5000);
+  EXPECT_GT(nonzero, 20000);
 }

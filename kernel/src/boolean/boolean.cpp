@@ -53,7 +53,8 @@ BooleanResult mesh_boolean(const TriangleMesh& a, const TriangleMesh& b, Boolean
   }
   if (!options.seat.empty() && options.seat.size() != a.face_count())
     throw InvalidInput("the seat flags must have one entry per face of the first operand");
-  BoundingBox box = bounding_box(a);
+  const BoundingBox a_box = bounding_box(a);
+  BoundingBox box = a_box;
   box.extend(bounding_box(b));
   const double magnitude = std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
   // 10 float32 ulp of the largest coordinate: large enough to survive rounding to float, far below
@@ -73,6 +74,7 @@ BooleanResult mesh_boolean(const TriangleMesh& a, const TriangleMesh& b, Boolean
   };
   const std::optional<TriangleMesh> a_float = rounded(a), b_float = rounded(b);
   const TriangleMesh& first = a_float ? *a_float : a;
+  const BoundingBox first_box = a_float ? bounding_box(first) : a_box;
   const TriangleMesh& second_input = b_float ? *b_float : b;
   static const Vec3 kicks[] = {Vec3(0.5377, -0.6131, 0.5787), Vec3(-0.4431, 0.3318, 0.8328),
                                Vec3(0.7202, 0.6113, -0.3281), Vec3(-0.2217, -0.8874, -0.4041),
@@ -95,7 +97,7 @@ BooleanResult mesh_boolean(const TriangleMesh& a, const TriangleMesh& b, Boolean
     }
     try {
       // 256 float ulp of the coordinates (2 um at 100 mm): see collapse_short_edges.
-      BooleanResult result = boolean_detail::corefine(first, *second, op, options, 25.6 * step);
+      BooleanResult result = boolean_detail::corefine(first, first_box, *second, op, options, 25.6 * step);
       result.attempts = attempt + 1;
       result.curve_tolerance = options.round_to_float ? 25.6 * step : 0.0;
       result.perturbation = offset;

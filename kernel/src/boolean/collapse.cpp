@@ -101,10 +101,13 @@ public:
   /// assemble() gave, which nothing relies on); the face lists follow. Only those vertices fall out of
   /// use: the link condition keeps the two opposite corners of each collapsed edge in other faces.
   void compact(BooleanResult& r, std::vector<Index>& fresh, std::vector<Index>& unchanged) {
-    std::vector<Index> below(m_.vertex_count());
-    Index dropped = 0, kept_vertices = 0;
-    for (Index v = 0; v < m_.vertex_count(); ++v) {
-      below[v] = dropped;
+    // Most of a result lies before its first dropped vertex and its first removed face (far faces come
+    // first, pieces after them): those are neither renumbered nor moved.
+    const Index first_gone = static_cast<Index>(std::find(gone_.begin(), gone_.end(), 1) - gone_.begin());
+    std::vector<Index> below(m_.vertex_count() - first_gone);
+    Index dropped = 0, kept_vertices = first_gone;
+    for (Index v = first_gone; v < m_.vertex_count(); ++v) {
+      below[v - first_gone] = dropped;
       if (gone_[v]) ++dropped;
       else m_.positions[kept_vertices++] = m_.positions[v];
     }
@@ -116,14 +119,17 @@ public:
       if (removed_[f]) continue;
       if (state_[f] == FaceState::fresh) fresh.push_back(kept);
       if (state_[f] == FaceState::unchanged) unchanged.push_back(kept);
-      Triangle& t = m_.triangles[kept];
-      t = m_.triangles[f];
+      Triangle t = m_.triangles[f];
       for (Index& v : t) {
+        if (v < first_gone) continue;
         if (gone_[v]) throw Degenerate{"a face left at a collapsed vertex"};
-        v -= below[v];
+        v -= below[v - first_gone];
       }
-      r.from_b[kept] = r.from_b[f];
-      r.source_face[kept] = r.source_face[f];
+      if (kept != f || t != m_.triangles[f]) {
+        m_.triangles[kept] = t;
+        r.from_b[kept] = r.from_b[f];
+        r.source_face[kept] = r.source_face[f];
+      }
       ++kept;
     }
     m_.triangles.resize(kept);

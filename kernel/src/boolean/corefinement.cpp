@@ -4,6 +4,7 @@
 #include "boolean/corefinement.h"
 
 #include "detail/format.h"
+#include "detail/morton.h"
 #include "st/boolean/triangle_intersection.h"
 #include "st/core/aabb_tree.h"
 #include "st/core/errors.h"
@@ -19,7 +20,6 @@
 #include <chrono>
 #include <cmath>
 #include <unordered_map>
-#include <unordered_set>
 
 namespace st::boolean_detail {
 
@@ -27,8 +27,10 @@ namespace {
 
 class Corefinement {
 public:
-  Corefinement(const TriangleMesh& a, const TriangleMesh& b, const BooleanOptions& options, double short_edge)
-      : a_(a), b_(b), options_(options), na_(a.vertex_count()), nb_(b.vertex_count()), short_edge_(short_edge) {}
+  Corefinement(const TriangleMesh& a, const BoundingBox& a_box, const TriangleMesh& b, const BooleanOptions& options,
+               double short_edge)
+      : a_(a), b_(b), a_box_(a_box), options_(options), na_(a.vertex_count()), nb_(b.vertex_count()),
+        short_edge_(short_edge) {}
 
   BooleanResult run(BooleanOp op) {
     auto t = std::chrono::steady_clock::now();
@@ -40,7 +42,9 @@ public:
     };
     find_segments();
     merge_coincident_points();
-    for (const SeamSegment& g : seam_) seam_edges_.insert(edge_key(g.p, g.q)); // both sides use it
+    for (const SeamSegment& g : seam_) seam_edges_.push_back(edge_key(g.p, g.q)); // both sides use it
+    std::sort(seam_edges_.begin(), seam_edges_.end());
+    seam_edges_.erase(std::unique(seam_edges_.begin(), seam_edges_.end()), seam_edges_.end());
     lap("segments");
     split_faces();
     lap("split");
@@ -104,22 +108,33 @@ private:
   void find_segments() {
     // Oriented boxes around the smaller operand's components select the other's near faces tightly;
     // the larger operand's axis-aligned box is enough the other way (and costs no pass over it).
-    auto whole_box = [](const TriangleMesh& m) {
+    auto whole_box = [](const BoundingBox& world) {
       OrientedBox box;
-      box.world = bounding_box(m);
+      box.world = world;
       box.axes.setIdentity();
       box.centre = box.world.center();
       box.half = 0.5 * box.world.size();
       return std::vector<OrientedBox>{box};
     };
     const bool a_smaller = a_.face_count() < b_.face_count();
-    const std::vector<Index> near_a = faces_near(a_, a_smaller ? whole_box(b_) : component_boxes(b_));
-    const std::vector<Index> near_b = faces_near(b_, a_smaller ? component_boxes(a_) : whole_box(a_));
+    const std::vector<Index> near_a = faces_near(a_, a_smaller ? whole_box(bounding_box(b_)) : component_boxes(b_));
+    const std::vector<Index> near_b = faces_near(b_, a_smaller ? component_boxes(a_) : whole_box(a_box_));
     local_[0].assign(a_.face_count(), 0);
     local_[1].assign(b_.face_count(), 0);
     for (Index f : near_a) local_[0][f] = 1;
     for (Index f : near_b) local_[1][f] = 1;
     if (near_a.empty() || near_b.empty()) return;
+    // Each near face's plane, for the side tests of the other operand's corners.
+    for (int s = 0; s < 2; ++s) {
+      const std::vector<Index>& near = s == 0 ? near_a : near_b;
+      plane_slot_[s].assign(mesh(s).face_count(), kInvalidIndex);
+      planes_[s].reserve(near.size());
+      for (Index f : near) {
+        plane_slot_[s][f] = static_cast<Index>(planes_[s].size());
+        const auto c = corners(s, f);
+        planes_[s].emplace_back(c[0], c[1], c[2]);
+      }
+    }
     const AabbTree tree_a(a_, near_a);
     const AabbTree tree_b(b_, near_b);
     tree_a.for_each_overlapping_pair(tree_b, [&](Index fa, Index fb) { intersect_pair(fa, fb); });
@@ -127,10 +142,12 @@ private:
 
   void intersect_pair(Index fa, Index fb) {
     const auto pa = corners(0, fa), pb = corners(1, fb);
+    const PlaneOrientation& plane_a = planes_[0][plane_slot_[0][fa]];
+    const PlaneOrientation& plane_b = planes_[1][plane_slot_[1][fb]];
     int sa[3], sb[3];
-    for (int i = 0; i < 3; ++i) sa[i] = orient3d(pb[0], pb[1], pb[2], pa[i]);
+    for (int i = 0; i < 3; ++i) sa[i] = plane_b(pa[i]); // orient3d(pb[0], pb[1], pb[2], pa[i])
     if ((sa[0] > 0 && sa[1] > 0 && sa[2] > 0) || (sa[0] < 0 && sa[1] < 0 && sa[2] < 0)) return;
-    for (int i = 0; i < 3; ++i) sb[i] = orient3d(pa[0], pa[1], pa[2], pb[i]);
+    for (int i = 0; i < 3; ++i) sb[i] = plane_a(pb[i]);
     if ((sb[0] > 0 && sb[1] > 0 && sb[2] > 0) || (sb[0] < 0 && sb[1] < 0 && sb[2] < 0)) return;
     if (sa[0] == 0 || sa[1] == 0 || sa[2] == 0 || sb[0] == 0 || sb[1] == 0 || sb[2] == 0) {
       if (triangles_intersect(pa[0], pa[1], pa[2], pb[0], pb[1], pb[2]))
@@ -316,25 +333,29 @@ private:
   void classify(int s) {
     std::vector<Piece>& pieces = pieces_[s];
     const std::size_t n = pieces.size();
-    std::vector<std::pair<std::uint64_t, Index>> edges;
+    // Each piece's edges by key, a key's pieces in their order (a stable radix sort).
+    std::vector<detail::MortonKeyed> edges;
     edges.reserve(3 * n);
     for (Index i = 0; i < n; ++i)
-      for (int k = 0; k < 3; ++k) edges.emplace_back(edge_key(pieces[i].t[k], pieces[i].t[(k + 1) % 3]), i);
-    std::sort(edges.begin(), edges.end());
+      for (int k = 0; k < 3; ++k) edges.push_back({edge_key(pieces[i].t[k], pieces[i].t[(k + 1) % 3]), i});
+    detail::sort_by_code(edges);
     UnionFind uf(n);
     std::vector<std::uint8_t> touches_outside(n, 0);
     std::unordered_map<std::uint64_t, std::array<Index, 2>>& seam_pieces = seam_pieces_[s];
+    auto next_seam = seam_edges_.begin(); // the curve's edges, met in the same order
     for (std::size_t i = 0; i < edges.size();) {
       std::size_t j = i;
-      while (j < edges.size() && edges[j].first == edges[i].first) ++j;
+      while (j < edges.size() && edges[j].code == edges[i].code) ++j;
       const std::size_t uses = j - i;
-      const bool seam = seam_edges_.count(edges[i].first) != 0;
+      while (next_seam != seam_edges_.end() && *next_seam < edges[i].code) ++next_seam;
+      const bool seam = next_seam != seam_edges_.end() && *next_seam == edges[i].code;
+      const auto piece = [&](std::size_t e) { return static_cast<Index>(edges[e].item); };
       if (uses == 1) {
         if (seam) throw Degenerate{"an intersection edge with one side"};
-        touches_outside[edges[i].second] = 1; // shared with a face far from the other operand
+        touches_outside[piece(i)] = 1; // shared with a face far from the other operand
       } else if (uses == 2) {
-        if (seam) seam_pieces[edges[i].first] = {edges[i].second, edges[i + 1].second};
-        else uf.join(edges[i].second, edges[i + 1].second);
+        if (seam) seam_pieces[edges[i].code] = {piece(i), piece(i + 1)};
+        else uf.join(piece(i), piece(i + 1));
       } else {
         throw Degenerate{"an edge with " + std::to_string(uses) + " faces after splitting"};
       }
@@ -342,13 +363,15 @@ private:
     }
     std::vector<Index>& component = components_[s];
     component.assign(n, 0);
-    std::unordered_map<Index, Index> root_to_component;
+    std::vector<Index> root_to_component(n, kInvalidIndex); // numbered in the order pieces meet them
+    Index components = 0;
     for (Index i = 0; i < n; ++i) {
-      const auto [it, fresh] = root_to_component.emplace(uf.find(i), static_cast<Index>(root_to_component.size()));
-      component[i] = it->second;
+      Index& c = root_to_component[uf.find(i)];
+      if (c == kInvalidIndex) c = components++;
+      component[i] = c;
     }
     std::vector<Verdict>& verdicts = verdicts_[s];
-    verdicts.assign(root_to_component.size(), {});
+    verdicts.assign(components, {});
     const std::vector<std::uint8_t>& seat = options_.seat;
     for (Index i = 0; i < n; ++i) {
       Verdict& v = verdicts[component[i]];
@@ -465,12 +488,12 @@ private:
     out.triangles.reserve(most);
     result.from_b.reserve(most);
     result.source_face.reserve(most);
+    // Every coordinate is what the result holds already: with round_to_float the operands come
+    // rounded (mesh_boolean) and so does every curve point (crossing_point).
     auto vertex = [&](Index id) {
       if (remap[id] == kInvalidIndex) {
         remap[id] = out.vertex_count();
-        Vec3 p = position(id);
-        if (options_.round_to_float) p = to_float32(p);
-        out.positions.push_back(p);
+        out.positions.push_back(position(id));
       }
       return remap[id];
     };
@@ -490,25 +513,8 @@ private:
     for (int s = 0; s < 2; ++s) {
       const bool reverse = op == BooleanOp::Difference && s == 1;
       const TriangleMesh& m = mesh(s);
-      if (keep(s, far_outside, op)) { // as emit() would, without its cases: most of a large operand
-        Index* const map = remap.data() + base(s);
-        for (Index f = 0; f < m.face_count(); ++f) {
-          if (local_[s][f]) continue;
-          Triangle t = m.triangles[f];
-          for (Index& v : t) {
-            Index& to = map[v];
-            if (to == kInvalidIndex) {
-              to = out.vertex_count();
-              out.positions.push_back(options_.round_to_float ? to_float32(m.positions[v]) : m.positions[v]);
-            }
-            v = to;
-          }
-          if (reverse) std::swap(t[1], t[2]);
-          out.triangles.push_back(t);
-          result.from_b.push_back(static_cast<std::uint8_t>(s));
-          result.source_face.push_back(f);
-        }
-      }
+      if (keep(s, far_outside, op)) // as emit() would, without its cases: most of a large operand
+        append_far_faces(m, local_[s], remap.data() + base(s), reverse, static_cast<std::uint8_t>(s), result);
       // keep() is evaluated once per component.
       std::vector<std::int8_t> kept(verdicts_[s].size(), -1);
       for (std::size_t i = 0; i < pieces_[s].size(); ++i) {
@@ -544,6 +550,7 @@ private:
 
   const TriangleMesh& a_;
   const TriangleMesh& b_;
+  const BoundingBox a_box_;
   const BooleanOptions& options_;
   const Index na_, nb_;
   const double short_edge_;
@@ -555,8 +562,10 @@ private:
   std::unordered_map<Index, FaceWork> work_[2];
   std::unordered_map<Index, std::vector<Triangle>> split_[2];
   std::vector<SeamSegment> seam_;
-  std::unordered_set<std::uint64_t> seam_edges_; // edge keys of seam_, for both sides' classification
+  std::vector<std::uint64_t> seam_edges_; // edge keys of seam_, sorted, for both sides' classification
   std::vector<std::uint8_t> local_[2];
+  std::vector<PlaneOrientation> planes_[2]; // the near faces' planes
+  std::vector<Index> plane_slot_[2];        // per face: its plane in planes_, for near faces
   std::vector<Piece> pieces_[2];
   std::vector<Index> components_[2];
   std::vector<Verdict> verdicts_[2];
@@ -565,9 +574,9 @@ private:
 
 } // namespace
 
-BooleanResult corefine(const TriangleMesh& a, const TriangleMesh& b, BooleanOp op, const BooleanOptions& options,
-                       double short_edge) {
-  return Corefinement(a, b, options, short_edge).run(op);
+BooleanResult corefine(const TriangleMesh& a, const BoundingBox& a_box, const TriangleMesh& b, BooleanOp op,
+                       const BooleanOptions& options, double short_edge) {
+  return Corefinement(a, a_box, b, options, short_edge).run(op);
 }
 
 } // namespace st::boolean_detail

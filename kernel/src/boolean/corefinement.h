@@ -99,6 +99,13 @@ std::vector<OrientedBox> component_boxes(const TriangleMesh& mesh);
 /// The faces of `mesh` that may meet one of the boxes.
 std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<OrientedBox>& boxes);
 
+/// Appends the faces of `m` that are not `local` (far from the other operand, kept whole) to the
+/// result, from_b and source_face alongside, their corners numbered through `map` (one entry per vertex
+/// of m: kInvalidIndex until the vertex is added, its id in the result after), in reverse orientation
+/// when asked.
+void append_far_faces(const TriangleMesh& m, const std::vector<std::uint8_t>& local, Index* map, bool reverse,
+                      std::uint8_t from_b, BooleanResult& result);
+
 /// Across an edge of the intersection curve an operand's surface passes from inside the other operand
 /// to outside (the contacts are in general position): a component no side test decided, such as a
 /// strip between two curves whose corners are all curve points, takes the other side from a decided
@@ -131,10 +138,11 @@ std::size_t collapse_short_edges(BooleanResult& r, const std::vector<VertexOrigi
 void check_fresh(const TriangleMesh& out, const std::vector<Index>& fresh, const std::vector<Index>& unchanged,
                  bool debug);
 
-/// One corefinement of `a` and `b` (points closer than `short_edge` on the curve merged). Throws
+/// One corefinement of `a` and `b` (points closer than `short_edge` on the curve merged); `a_box` is
+/// a's bounding box (the caller has it: a large operand is not gone through again for it). Throws
 /// Degenerate when a contact is not in general position. With options.round_to_float the operands'
 /// coordinates are float32 already (mesh_boolean rounds them): only the new points are rounded here.
-BooleanResult corefine(const TriangleMesh& a, const TriangleMesh& b, BooleanOp op, const BooleanOptions& options,
-                       double short_edge);
+BooleanResult corefine(const TriangleMesh& a, const BoundingBox& a_box, const TriangleMesh& b, BooleanOp op,
+                       const BooleanOptions& options, double short_edge);
 
 } // namespace st::boolean_detail

@@ -1,6 +1,6 @@
-// The regions of the Boolean's operands: oriented boxes of components, the faces near them, the
-// decision across the curve for components no side test decides, the ray-parity inside test, and
-// the check that the pieces kept by their verdicts close up.
+// The regions of the Boolean's operands: oriented boxes of components, the faces near them, the faces
+// far from them copied into the result, the decision across the curve for components no side test decides, the
+// ray-parity inside test, and the check that the pieces kept by their verdicts close up.
 
 #include "boolean/corefinement.h"
 
@@ -96,6 +96,35 @@ std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<Orient
       }
   }
   return out;
+}
+
+void append_far_faces(const TriangleMesh& m, const std::vector<std::uint8_t>& local, Index* map, bool reverse,
+                      std::uint8_t from_b, BooleanResult& result) {
+  // Written through counters into arrays sized for every face (trimmed after): most of the result.
+  TriangleMesh& out = result.mesh;
+  Index vertices = out.vertex_count(), faces = out.face_count();
+  out.positions.resize(vertices + m.vertex_count());
+  out.triangles.resize(faces + m.face_count());
+  result.source_face.resize(faces + m.face_count());
+  for (Index f = 0; f < m.face_count(); ++f) {
+    if (local[f]) continue;
+    Triangle t = m.triangles[f];
+    for (Index& v : t) {
+      Index& to = map[v];
+      if (to == kInvalidIndex) {
+        to = vertices++;
+        out.positions[to] = m.positions[v];
+      }
+      v = to;
+    }
+    if (reverse) std::swap(t[1], t[2]);
+    out.triangles[faces] = t;
+    result.source_face[faces++] = f;
+  }
+  out.positions.resize(vertices);
+  out.triangles.resize(faces);
+  result.source_face.resize(faces);
+  result.from_b.resize(faces, from_b);
 }
 
 void decide_across_curve(const std::vector<std::pair<Index, Index>>& across, std::vector<Verdict>& verdicts) {

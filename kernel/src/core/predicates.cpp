@@ -550,4 +550,25 @@ int orient3d(const Vec3& pa, const Vec3& pb, const Vec3& pc, const Vec3& pd) {
   return orient3d_exact(a, b, c, d);
 }
 
+PlaneOrientation::PlaneOrientation(const Vec3& a, const Vec3& b, const Vec3& c) : a_(a), b_(b), c_(c) {
+  const double bax = b[0] - a[0], bay = b[1] - a[1], baz = b[2] - a[2];
+  const double cax = c[0] - a[0], cay = c[1] - a[1], caz = c[2] - a[2];
+  const double bay_caz = bay * caz, baz_cay = baz * cay;
+  const double baz_cax = baz * cax, bax_caz = bax * caz;
+  const double bax_cay = bax * cay, bay_cax = bay * cax;
+  minor_ = Vec3(bay_caz - baz_cay, baz_cax - bax_caz, bax_cay - bay_cax);
+  permanent_ = Vec3(std::fabs(bay_caz) + std::fabs(baz_cay), std::fabs(baz_cax) + std::fabs(bax_caz),
+                    std::fabs(bax_cay) + std::fabs(bay_cax));
+}
+
+int PlaneOrientation::operator()(const Vec3& d) const {
+  // det = (d - a) . ((b - a) x (c - a)) = -orient3d's determinant.
+  const double dax = d[0] - a_[0], day = d[1] - a_[1], daz = d[2] - a_[2];
+  const double det = dax * minor_[0] + day * minor_[1] + daz * minor_[2];
+  const double adax = std::fabs(dax), aday = std::fabs(day), adaz = std::fabs(daz);
+  const double errbound = kErrBound3A * (adax * permanent_[0] + aday * permanent_[1] + adaz * permanent_[2]);
+  if (std::fabs(det) - errbound > kUnderflowMargin * (adax + aday + adaz + 1.0)) return -sign_of(det);
+  return orient3d(a_, b_, c_, d);
+}
+
 } // namespace st

@@ -1,7 +1,8 @@
 #pragma once
 // Morton (Z-order) codes of points on a grid of 2^21 cells a side: sorted by them, points near each
 // other in space are mostly near each other in order (the AABB tree's triangles, the fit's points),
-// and the sort that puts items in that order.
+// and the sort that puts items in that order (a stable radix sort of any 64-bit keys: the Boolean's
+// edge keys too).
 
 #include "st/core/mesh.h"
 
@@ -38,7 +39,7 @@ inline std::uint64_t morton_code(const Vec3& p, const Vec3& origin, double scale
   return code;
 }
 
-/// An item (its index) and its Morton code.
+/// An item (its index) and its Morton code (or another 64-bit key).
 struct MortonKeyed {
   std::uint64_t code;
   std::size_t item;

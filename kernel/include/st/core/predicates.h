@@ -34,4 +34,20 @@ int orient2d(const double* a, const double* b, const double* c);
 /// Exact for all finite input.
 int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
+/// orient3d(a, b, c, d) for many points d against one plane (a, b, c): the plane's differences and
+/// 2x2 minors are computed once, so the floating-point filter costs a point three differences and two
+/// dot products. Its error bound is orient3d's (the same determinant, expanded along d's row instead
+/// of a column: the same products of single-rounded differences); what it cannot decide goes to
+/// orient3d itself. The sign is orient3d's for every finite input.
+class PlaneOrientation {
+public:
+  PlaneOrientation(const Vec3& a, const Vec3& b, const Vec3& c);
+  [[nodiscard]] int operator()(const Vec3& d) const;
+
+private:
+  Vec3 a_, b_, c_;
+  Vec3 minor_;     // (b - a) x (c - a), as the filter computes it
+  Vec3 permanent_; // per component, the sum of the magnitudes of its two products
+};
+
 } // namespace st
