@@ -119,22 +119,18 @@ private:
     const bool a_smaller = a_.face_count() < b_.face_count();
     const std::vector<Index> near_a = faces_near(a_, a_smaller ? whole_box(bounding_box(b_)) : component_boxes(b_));
     const std::vector<Index> near_b = faces_near(b_, a_smaller ? component_boxes(a_) : whole_box(a_box_));
-    local_[0].assign(a_.face_count(), 0);
-    local_[1].assign(b_.face_count(), 0);
-    for (Index f : near_a) local_[0][f] = 1;
-    for (Index f : near_b) local_[1][f] = 1;
-    if (near_a.empty() || near_b.empty()) return;
     // Each near face's plane, for the side tests of the other operand's corners.
     for (int s = 0; s < 2; ++s) {
       const std::vector<Index>& near = s == 0 ? near_a : near_b;
-      plane_slot_[s].assign(mesh(s).face_count(), kInvalidIndex);
+      near_slot_[s].assign(mesh(s).face_count(), kInvalidIndex);
       planes_[s].reserve(near.size());
       for (Index f : near) {
-        plane_slot_[s][f] = static_cast<Index>(planes_[s].size());
+        near_slot_[s][f] = static_cast<Index>(planes_[s].size());
         const auto c = corners(s, f);
         planes_[s].emplace_back(c[0], c[1], c[2]);
       }
     }
+    if (near_a.empty() || near_b.empty()) return;
     const AabbTree tree_a(a_, near_a);
     const AabbTree tree_b(b_, near_b);
     tree_a.for_each_overlapping_pair(tree_b, [&](Index fa, Index fb) { intersect_pair(fa, fb); });
@@ -142,8 +138,8 @@ private:
 
   void intersect_pair(Index fa, Index fb) {
     const auto pa = corners(0, fa), pb = corners(1, fb);
-    const PlaneOrientation& plane_a = planes_[0][plane_slot_[0][fa]];
-    const PlaneOrientation& plane_b = planes_[1][plane_slot_[1][fb]];
+    const PlaneOrientation& plane_a = planes_[0][near_slot_[0][fa]];
+    const PlaneOrientation& plane_b = planes_[1][near_slot_[1][fb]];
     int sa[3], sb[3];
     for (int i = 0; i < 3; ++i) sa[i] = plane_b(pa[i]); // orient3d(pb[0], pb[1], pb[2], pa[i])
     if ((sa[0] > 0 && sa[1] > 0 && sa[2] > 0) || (sa[0] < 0 && sa[1] < 0 && sa[2] < 0)) return;
@@ -319,7 +315,7 @@ private:
     const TriangleMesh& m = mesh(s);
     std::vector<Piece>& pieces = pieces_[s];
     for (Index f = 0; f < m.face_count(); ++f) {
-      if (!local_[s][f]) continue;
+      if (near_slot_[s][f] == kInvalidIndex) continue;
       const auto it = split_[s].find(f);
       if (it == split_[s].end()) {
         const Triangle& t = m.triangles[f];
@@ -514,7 +510,7 @@ private:
       const bool reverse = op == BooleanOp::Difference && s == 1;
       const TriangleMesh& m = mesh(s);
       if (keep(s, far_outside, op)) // as emit() would, without its cases: most of a large operand
-        append_far_faces(m, local_[s], remap.data() + base(s), reverse, static_cast<std::uint8_t>(s), result);
+        append_far_faces(m, near_slot_[s], remap.data() + base(s), reverse, static_cast<std::uint8_t>(s), result);
       // keep() is evaluated once per component.
       std::vector<std::int8_t> kept(verdicts_[s].size(), -1);
       for (std::size_t i = 0; i < pieces_[s].size(); ++i) {
@@ -562,10 +558,9 @@ private:
   std::unordered_map<Index, FaceWork> work_[2];
   std::unordered_map<Index, std::vector<Triangle>> split_[2];
   std::vector<SeamSegment> seam_;
-  std::vector<std::uint64_t> seam_edges_; // edge keys of seam_, sorted, for both sides' classification
-  std::vector<std::uint8_t> local_[2];
+  std::vector<std::uint64_t> seam_edges_;   // edge keys of seam_, sorted, for both sides' classification
   std::vector<PlaneOrientation> planes_[2]; // the near faces' planes
-  std::vector<Index> plane_slot_[2];        // per face: its plane in planes_, for near faces
+  std::vector<Index> near_slot_[2];         // per face: its plane in planes_; kInvalidIndex for a far face
   std::vector<Piece> pieces_[2];
   std::vector<Index> components_[2];
   std::vector<Verdict> verdicts_[2];

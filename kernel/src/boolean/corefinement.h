@@ -99,11 +99,11 @@ std::vector<OrientedBox> component_boxes(const TriangleMesh& mesh);
 /// The faces of `mesh` that may meet one of the boxes.
 std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<OrientedBox>& boxes);
 
-/// Appends the faces of `m` that are not `local` (far from the other operand, kept whole) to the
-/// result, from_b and source_face alongside, their corners numbered through `map` (one entry per vertex
-/// of m: kInvalidIndex until the vertex is added, its id in the result after), in reverse orientation
-/// when asked.
-void append_far_faces(const TriangleMesh& m, const std::vector<std::uint8_t>& local, Index* map, bool reverse,
+/// Appends the faces of `m` far from the other operand (kept whole: their `near_slot` is kInvalidIndex)
+/// to the result, from_b and source_face alongside, their corners numbered through `map` (one entry per
+/// vertex of m: kInvalidIndex until the vertex is added, its id in the result after), in reverse
+/// orientation when asked.
+void append_far_faces(const TriangleMesh& m, const std::vector<Index>& near_slot, Index* map, bool reverse,
                       std::uint8_t from_b, BooleanResult& result);
 
 /// Across an edge of the intersection curve an operand's surface passes from inside the other operand

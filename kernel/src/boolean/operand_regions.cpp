@@ -1,6 +1,7 @@
-// The regions of the Boolean's operands: oriented boxes of components, the faces near them, the faces
-// far from them copied into the result, the decision across the curve for components no side test decides, the
-// ray-parity inside test, and the check that the pieces kept by their verdicts close up.
+// The regions of the Boolean's operands: oriented boxes of components, the faces near them, the
+// faces far from them copied into the result, the decision across the curve for components no side
+// test decides, the ray-parity inside test, and the check that the pieces kept by their verdicts
+// close up.
 
 #include "boolean/corefinement.h"
 
@@ -98,7 +99,7 @@ std::vector<Index> faces_near(const TriangleMesh& mesh, const std::vector<Orient
   return out;
 }
 
-void append_far_faces(const TriangleMesh& m, const std::vector<std::uint8_t>& local, Index* map, bool reverse,
+void append_far_faces(const TriangleMesh& m, const std::vector<Index>& near_slot, Index* map, bool reverse,
                       std::uint8_t from_b, BooleanResult& result) {
   // Written through counters into arrays sized for every face (trimmed after): most of the result.
   TriangleMesh& out = result.mesh;
@@ -107,7 +108,7 @@ void append_far_faces(const TriangleMesh& m, const std::vector<std::uint8_t>& lo
   out.triangles.resize(faces + m.face_count());
   result.source_face.resize(faces + m.face_count());
   for (Index f = 0; f < m.face_count(); ++f) {
-    if (local[f]) continue;
+    if (near_slot[f] != kInvalidIndex) continue;
     Triangle t = m.triangles[f];
     for (Index& v : t) {
       Index& to = map[v];
